@@ -1,0 +1,245 @@
+"""The motion planner: value maps → cost map → global path → smoothed 6-DoF trajectory.
+
+Paper Sec. 4 "Motion Planner": only the affordance and avoidance maps enter the optimisation;
+the rotation, velocity and gripper maps are then read along the path. Unlike the paper's
+release (greedy descent, kept here as ``method="greedy"`` for comparison) the path is the
+global lowest-cost one, so an obstacle near the target cannot trap the planner.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from voxposer.errors import ConfigError, StartBlockedError, TargetUnreachableError
+from voxposer.planning.search import astar, greedy_descent
+from voxposer.planning.trajectory import Trajectory, collides, extract_trajectory, resample, smooth
+from voxposer.valuemaps.cost import CostMap, CostMapConfig, compose_cost_map
+from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.valuemaps.maps import TOP_DOWN_QUAT
+
+PlanMethod = Literal["global", "greedy"]
+
+
+@dataclass(frozen=True)
+class PlannerConfig:
+    """Planner parameters.
+
+    Attributes:
+        method: ``"global"`` (A*, default) or ``"greedy"`` (the paper's release, for comparison).
+        cost: cost-map composition parameters (paper values by default).
+        length_weight: cost per voxel travelled, added to the cost map (keeps paths short).
+        waypoint_spacing_m: distance between consecutive waypoints [m].
+        savgol_window: Savitzky–Golay window [waypoints], odd.
+        savgol_polyorder: Savitzky–Golay polynomial order.
+        greedy_radius: neighbourhood half-size of the greedy mode [voxels] (release: 2).
+        greedy_max_steps: step limit of the greedy mode (release: 300).
+    """
+
+    method: PlanMethod = "global"
+    cost: CostMapConfig = field(default_factory=CostMapConfig)
+    length_weight: float = 0.1
+    waypoint_spacing_m: float = 0.01
+    savgol_window: int = 11
+    savgol_polyorder: int = 3
+    greedy_radius: int = 2
+    greedy_max_steps: int = 300
+
+    def __post_init__(self) -> None:
+        if self.method not in ("global", "greedy"):
+            raise ConfigError(
+                f"PlannerConfig.method must be 'global' or 'greedy'; got {self.method!r}"
+            )
+        if not np.isfinite(self.length_weight) or self.length_weight <= 0:
+            raise ConfigError(
+                f"PlannerConfig.length_weight must be > 0; got {self.length_weight!r}"
+            )
+        if not np.isfinite(self.waypoint_spacing_m) or not 1e-4 <= self.waypoint_spacing_m <= 0.5:
+            raise ConfigError(
+                f"PlannerConfig.waypoint_spacing_m must be in [0.0001, 0.5] m; got {self.waypoint_spacing_m!r}"
+            )
+        if self.savgol_window < 1 or self.savgol_window % 2 == 0:
+            raise ConfigError(
+                f"PlannerConfig.savgol_window must be a positive odd int; got {self.savgol_window!r}"
+            )
+        if not 0 <= self.savgol_polyorder < max(self.savgol_window, 1):
+            raise ConfigError(
+                f"PlannerConfig.savgol_polyorder must be in [0, savgol_window); got {self.savgol_polyorder!r}"
+            )
+        if self.greedy_radius < 1 or self.greedy_max_steps < 1:
+            raise ConfigError("PlannerConfig.greedy_radius and greedy_max_steps must be >= 1")
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A planned trajectory with what produced it.
+
+    Attributes:
+        trajectory: the 6-DoF trajectory (ends on the target when ``reached``).
+        cost_map: the cost map the search ran on.
+        voxel_path: voxels visited by the search on ``cost_map.grid``, shape (M, 3).
+        reached: whether the path ends on an affordance target.
+        path_cost: objective value of ``voxel_path`` (see :mod:`voxposer.planning.search`).
+        method: ``"global"`` or ``"greedy"``.
+        timings_ms: wall time per stage [ms]: postprocess, search, trajectory, total.
+    """
+
+    trajectory: Trajectory
+    cost_map: CostMap
+    voxel_path: NDArray[np.int64]
+    reached: bool
+    path_cost: float
+    method: PlanMethod
+    timings_ms: dict[str, float]
+
+    @property
+    def target(self) -> NDArray[np.float64]:
+        """The final waypoint [m], shape (3,)."""
+        return self.trajectory.positions[-1]
+
+
+class PathPlanner:
+    """Plans 6-DoF trajectories over value maps on one workspace grid."""
+
+    def __init__(self, grid: VoxelGrid, config: PlannerConfig | None = None) -> None:
+        self.grid = grid
+        self.config = config or PlannerConfig()
+
+    def plan(
+        self,
+        affordance_map: NDArray,
+        start: ArrayLike,
+        *,
+        avoidance_map: NDArray | None = None,
+        rotation_map: NDArray | None = None,
+        velocity_map: NDArray | None = None,
+        gripper_map: NDArray | None = None,
+        occupancy: NDArray[np.bool_] | None = None,
+        entity_occupancy: NDArray[np.bool_] | None = None,
+        current_quat: ArrayLike = TOP_DOWN_QUAT,
+        current_gripper: float = 0.0,
+    ) -> Plan:
+        """Plan from ``start`` [m] to the affordance target.
+
+        Args:
+            affordance_map, avoidance_map, rotation_map, velocity_map, gripper_map: value maps
+                on ``self.grid`` (see :mod:`voxposer.valuemaps.maps`); None = not specified.
+            start: the entity's position [m], shape (3,).
+            occupancy: scene obstacle voxels, shape ``grid.shape``.
+            entity_occupancy: the moving entity's own voxels (not obstacles).
+            current_quat: orientation (x, y, z, w) used where no rotation map is given.
+            current_gripper: gripper state used where no gripper map is given.
+
+        Raises:
+            InvalidMapError, EmptyAffordanceError, OutOfWorkspaceError: bad maps or start.
+            StartBlockedError: the start is enclosed by obstacles (global method).
+            TargetUnreachableError: no free path reaches a target (global method).
+        """
+        cfg = self.config
+        t0 = time.perf_counter()
+        cost_cfg = cfg.cost
+        if cfg.method == "greedy":  # the release: full resolution, plain Gaussian, soft obstacles
+            cost_cfg = replace(
+                cost_cfg, downsample=1, gaussian_truncate=4.0, obstacles_as_avoidance=True
+            )
+        cmap = compose_cost_map(
+            self.grid, affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg
+        )
+        t1 = time.perf_counter()
+        start_vox = cmap.grid.world_to_voxel(cmap.start, clip=True)
+        if cfg.method == "greedy":
+            path = greedy_descent(
+                cmap.cost,
+                np.zeros_like(cmap.obstacles),
+                start_vox,
+                radius=cfg.greedy_radius,
+                max_steps=cfg.greedy_max_steps,
+            )
+            reached = bool(cmap.target_mask[tuple(path[-1])])
+            path_cost = float(np.sum(cmap.cost[path[1:, 0], path[1:, 1], path[1:, 2]]))
+        else:
+            path, path_cost = self._search(cmap, start_vox)
+            reached = True
+        t2 = time.perf_counter()
+        points = self._waypoints(cmap, path, reached)
+        traj = extract_trajectory(
+            points,
+            self.grid,
+            rotation_map=rotation_map,
+            velocity_map=velocity_map,
+            gripper_map=gripper_map,
+            default_quat=np.asarray(current_quat, dtype=np.float64),
+            default_gripper=current_gripper,
+        )
+        t3 = time.perf_counter()
+        timings = {
+            "postprocess": (t1 - t0) * 1e3,
+            "search": (t2 - t1) * 1e3,
+            "trajectory": (t3 - t2) * 1e3,
+            "total": (t3 - t0) * 1e3,
+        }
+        return Plan(traj, cmap, path, reached, path_cost, cfg.method, timings)
+
+    def _search(
+        self, cmap: CostMap, start_vox: NDArray[np.int64]
+    ) -> tuple[NDArray[np.int64], float]:
+        cfg = self.config
+        d_max = float(cmap.target_distance.max())
+        scale = cfg.cost.affordance_weight / d_max if d_max > 0 else 0.0
+        result = astar(
+            cmap.cost,
+            cmap.obstacles,
+            cmap.target_mask,
+            cmap.target_distance,
+            start_vox,
+            length_weight=cfg.length_weight,
+            affordance_scale=scale,
+        )
+        if len(result.path):
+            return result.path, result.cost
+        start_m = np.round(cmap.start, 3).tolist()
+        if result.expanded <= 1:
+            raise StartBlockedError(
+                f"start {start_m} m (voxel {start_vox.tolist()}) is enclosed by obstacles on every "
+                f"side; clear space around the entity (entity_clear_radius_cm="
+                f"{cfg.cost.entity_clear_radius_cm}) or move it"
+            )
+        closest = np.round(cmap.grid.voxel_to_world(result.closest), 3).tolist()
+        gap = float(cmap.target_distance[tuple(result.closest)] * cmap.grid.resolution.min())
+        raise TargetUnreachableError(
+            f"no collision-free path from {start_m} m to the affordance target: obstacles enclose it; "
+            f"the closest reachable point is {closest} m, {gap * 100:.1f} cm from the target "
+            f"({result.expanded} voxels searched)"
+        )
+
+    def _waypoints(
+        self, cmap: CostMap, path: NDArray[np.int64], reached: bool
+    ) -> NDArray[np.float64]:
+        """Polyline through the path voxels, from the exact start to the exact target [m]."""
+        cfg = self.config
+        centres = cmap.grid.voxel_to_world(path)
+        end = self._target_point(cmap, path[-1]) if reached else centres[-1]
+        raw = (
+            np.vstack([cmap.start, centres[1:-1], end])
+            if len(path) > 1
+            else np.vstack([cmap.start, end])
+        )
+        raw = resample(raw, cfg.waypoint_spacing_m)
+        smoothed = resample(
+            smooth(raw, cfg.savgol_window, cfg.savgol_polyorder), cfg.waypoint_spacing_m
+        )
+        if not collides(smoothed, self.grid, cmap.fine_obstacles):
+            return smoothed
+        return raw
+
+    def _target_point(self, cmap: CostMap, coarse_voxel: NDArray[np.int64]) -> NDArray[np.float64]:
+        """The fine target voxel inside the reached coarse voxel nearest its centre [m]."""
+        f = cmap.config.downsample
+        inside = np.all(cmap.fine_targets // f == coarse_voxel, axis=1)
+        candidates = self.grid.voxel_to_world(cmap.fine_targets[inside])
+        centre = cmap.grid.voxel_to_world(coarse_voxel)
+        return candidates[int(np.argmin(np.linalg.norm(candidates - centre, axis=1)))]

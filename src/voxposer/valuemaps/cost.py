@@ -1,0 +1,351 @@
+"""From value maps to the planner's cost map (paper Sec. 4 "Value Map Composition", "Motion Planner").
+
+The affordance map becomes a Euclidean distance transform to its target voxels, the avoidance
+map is smoothed with a Gaussian; each is normalised to [0, 1] and they are summed with weights
+2 and 1. Scene occupancy (from a point cloud) marks obstacles, cleared near the target and
+around the moving entity so neither the start nor the goal sits inside one.
+
+For speed the cost map is built on a coarser copy of the grid (``downsample`` fine voxels per
+coarse voxel and axis; 2 by default, i.e. 50³ for the paper's 100³): affordance targets and
+obstacles are pooled conservatively (a coarse voxel is a target / an obstacle if any of its fine
+voxels is), the avoidance map by its maximum, and the Gaussian's sigma is scaled to match.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy import ndimage
+
+from voxposer.errors import ConfigError, EmptyAffordanceError, OutOfWorkspaceError
+from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.valuemaps.maps import check_value_map
+
+
+@dataclass(frozen=True)
+class CostMapConfig:
+    """Parameters of cost-map composition; defaults follow the paper and its release.
+
+    Attributes:
+        affordance_weight: weight of the normalised affordance distance term (paper: 2).
+        avoidance_weight: weight of the normalised smoothed avoidance term (paper: 1).
+        avoidance_sigma: Gaussian sigma for the avoidance map [fine voxels] (release: 10).
+        gaussian_truncate: the Gaussian kernel is cut at this many sigmas.
+        target_threshold: voxels with affordance >= threshold * max are targets (1 = the maxima).
+        target_clear_radius_cm: obstacles within this radius of a target are cleared [cm].
+        entity_clear_radius_cm: obstacles within this radius of the entity's start are cleared [cm].
+        obstacle_margin_cm: obstacles are grown by this margin [cm] (0 = points as observed).
+        downsample: fine voxels per coarse planning voxel along each axis (1 = full resolution).
+        obstacles_as_avoidance: also add scene obstacles to the avoidance map before smoothing,
+            as the paper's release did (its greedy planner had no hard obstacles).
+    """
+
+    affordance_weight: float = 2.0
+    avoidance_weight: float = 1.0
+    avoidance_sigma: float = 10.0
+    gaussian_truncate: float = 3.0
+    target_threshold: float = 1.0
+    target_clear_radius_cm: float = 5.0
+    entity_clear_radius_cm: float = 5.0
+    obstacle_margin_cm: float = 0.0
+    downsample: int = 2
+    obstacles_as_avoidance: bool = False
+
+    def __post_init__(self) -> None:
+        for name in (
+            "affordance_weight",
+            "avoidance_weight",
+            "avoidance_sigma",
+            "target_clear_radius_cm",
+            "entity_clear_radius_cm",
+            "obstacle_margin_cm",
+        ):
+            value = getattr(self, name)
+            if not np.isfinite(value) or value < 0:
+                raise ConfigError(
+                    f"CostMapConfig.{name} must be a finite number >= 0; got {value!r}"
+                )
+        if self.affordance_weight <= 0:
+            raise ConfigError(
+                f"CostMapConfig.affordance_weight must be > 0; got {self.affordance_weight!r}"
+            )
+        if not 0 < self.target_threshold <= 1:
+            raise ConfigError(
+                f"CostMapConfig.target_threshold must be in (0, 1]; got {self.target_threshold!r}"
+            )
+        if not 0 < self.gaussian_truncate <= 8:
+            raise ConfigError(
+                f"CostMapConfig.gaussian_truncate must be in (0, 8]; got {self.gaussian_truncate!r}"
+            )
+        if not isinstance(self.downsample, int) or not 1 <= self.downsample <= 8:
+            raise ConfigError(
+                f"CostMapConfig.downsample must be an int in 1..8; got {self.downsample!r}"
+            )
+
+
+@dataclass(frozen=True)
+class CostMap:
+    """The planner's objective on the (coarse) planning grid.
+
+    Attributes:
+        grid: the planning grid (the workspace grid coarsened by ``config.downsample``).
+        fine_grid: the workspace grid the value maps were written on.
+        cost: combined cost, shape ``grid.shape``, float32, in [0, w_aff + w_avoid].
+        affordance_cost: normalised distance to the nearest target, shape ``grid.shape``, in [0, 1].
+        avoidance_cost: normalised smoothed avoidance, shape ``grid.shape``, in [0, 1].
+        target_distance: distance to the nearest target [coarse voxels], shape ``grid.shape``.
+        target_mask: coarse target voxels, shape ``grid.shape``.
+        obstacles: coarse obstacle voxels after clearing, shape ``grid.shape``.
+        fine_obstacles: fine obstacle voxels after clearing, shape ``fine_grid.shape``.
+        fine_targets: fine target voxel indices, shape (T, 3).
+        start: the entity's start position [m], shape (3,).
+    """
+
+    grid: VoxelGrid
+    fine_grid: VoxelGrid
+    cost: NDArray[np.float32]
+    affordance_cost: NDArray[np.float32]
+    avoidance_cost: NDArray[np.float32]
+    target_distance: NDArray[np.float32]
+    target_mask: NDArray[np.bool_]
+    obstacles: NDArray[np.bool_]
+    fine_obstacles: NDArray[np.bool_]
+    fine_targets: NDArray[np.int64]
+    start: NDArray[np.float64]
+    config: CostMapConfig
+
+
+def pool_max(volume: NDArray, factor: int) -> NDArray:
+    """Block maximum over ``factor``³ cells, padding the upper side with the array minimum.
+
+    ``volume`` has shape (X, Y, Z); the result has shape ``ceil((X, Y, Z) / factor)``.
+    """
+    if factor == 1:
+        return volume
+    shape = np.asarray(volume.shape)
+    padded_shape = -(-shape // factor) * factor
+    if np.any(padded_shape != shape):
+        fill = False if volume.dtype == bool else volume.min()
+        padded = np.full(padded_shape, fill, dtype=volume.dtype)
+        padded[: shape[0], : shape[1], : shape[2]] = volume
+        volume = padded
+    out = volume[::factor, ::factor, ::factor].copy()
+    for i in range(factor):
+        for j in range(factor):
+            for k in range(factor):
+                if i or j or k:
+                    np.maximum(out, volume[i::factor, j::factor, k::factor], out=out)
+    return out
+
+
+def _normalise(values: NDArray[np.float32]) -> NDArray[np.float32]:
+    lo, hi = float(values.min()), float(values.max())
+    if hi - lo < 1e-12:
+        return np.zeros_like(values)
+    values -= lo
+    values *= 1.0 / (hi - lo)
+    return values
+
+
+def _distance_to(mask: NDArray[np.bool_], voxels: NDArray[np.int64]) -> NDArray[np.float32]:
+    """Euclidean distance [voxels] from every voxel to the nearest True voxel of ``mask``.
+
+    ``voxels`` lists the True voxels, shape (K, 3). A handful of targets (the usual case: a point
+    above an object) is done by broadcasting; larger regions by scipy's distance transform.
+    """
+    if len(voxels) > 8:
+        return ndimage.distance_transform_edt(~mask).astype(np.float32)
+    axes = [np.arange(n, dtype=np.float32) for n in mask.shape]
+    best = np.full(mask.shape, np.inf, dtype=np.float32)
+    for v in voxels:
+        dx, dy, dz = ((axes[a] - v[a]) ** 2 for a in range(3))
+        np.minimum(best, dx[:, None, None] + dy[None, :, None] + dz[None, None, :], out=best)
+    return np.sqrt(best, out=best)
+
+
+def _smooth(volume: NDArray[np.float32], sigma: float, truncate: float) -> NDArray[np.float32]:
+    """Gaussian filter (zero outside the grid), run only where the result can be non-zero.
+
+    The kernel is cut at ``truncate * sigma`` voxels, so outside the bounding box of the non-zero
+    input grown by that radius the output is exactly zero; the result equals filtering the whole
+    volume.
+    """
+    radius = int(truncate * sigma + 0.5)
+    lo, hi = [], []
+    for axis in range(3):
+        other = tuple(a for a in range(3) if a != axis)
+        nz = np.flatnonzero(volume.any(axis=other))
+        lo.append(max(int(nz[0]) - radius, 0))
+        hi.append(min(int(nz[-1]) + radius + 1, volume.shape[axis]))
+    box = (slice(lo[0], hi[0]), slice(lo[1], hi[1]), slice(lo[2], hi[2]))
+    out = np.zeros_like(volume)
+    out[box] = ndimage.gaussian_filter(volume[box], sigma, truncate=truncate, mode="constant")
+    return out
+
+
+def _ball(radius_voxels: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Ellipsoidal structuring element with the given per-axis radii [voxels]."""
+    r = np.floor(radius_voxels).astype(int)
+    axes = [np.arange(-r[a], r[a] + 1) / max(radius_voxels[a], 1e-9) for a in range(3)]
+    x, y, z = np.meshgrid(*axes, indexing="ij", sparse=True)
+    return np.asarray(x**2 + y**2 + z**2 <= 1.0 + 1e-9)
+
+
+def _clear_sphere(
+    mask: NDArray[np.bool_], grid: VoxelGrid, centre: NDArray, radius_cm: float
+) -> None:
+    """Set ``mask`` False within ``radius_cm`` of world point ``centre`` [m] (in place)."""
+    if radius_cm <= 0:
+        return
+    c = grid.world_to_voxel(centre, clip=True)
+    reach = np.ceil(radius_cm / 100.0 / grid.resolution).astype(int)
+    lo = np.maximum(c - reach, 0)
+    hi = np.minimum(c + reach + 1, np.asarray(grid.shape))
+    axes = [
+        grid.voxel_to_world(np.zeros(3))[a] + np.arange(lo[a], hi[a]) * grid.resolution[a]
+        for a in range(3)
+    ]
+    x, y, z = np.meshgrid(*axes, indexing="ij", sparse=True)
+    inside = (x - centre[0]) ** 2 + (y - centre[1]) ** 2 + (z - centre[2]) ** 2 <= (
+        radius_cm / 100.0
+    ) ** 2
+    mask[lo[0] : hi[0], lo[1] : hi[1], lo[2] : hi[2]] &= ~inside
+
+
+def compose_cost_map(
+    grid: VoxelGrid,
+    affordance_map: NDArray,
+    start: ArrayLike,
+    avoidance_map: NDArray | None = None,
+    occupancy: NDArray[np.bool_] | None = None,
+    entity_occupancy: NDArray[np.bool_] | None = None,
+    config: CostMapConfig | None = None,
+) -> CostMap:
+    """Build the planner's cost map from value maps and scene occupancy.
+
+    Args:
+        grid: the workspace grid the maps are written on.
+        affordance_map: shape ``grid.shape``; high values attract.
+        start: the entity's current position [m], shape (3,); must be inside the workspace.
+        avoidance_map: shape ``grid.shape``; high values repel. None = nothing to avoid.
+        occupancy: scene obstacle voxels, shape ``grid.shape`` (e.g. from
+            :meth:`VoxelGrid.points_to_occupancy`). None = free space.
+        entity_occupancy: voxels of the moving entity itself, removed from ``occupancy``.
+        config: parameters; paper defaults when None.
+
+    Raises:
+        InvalidMapError: a map with the wrong shape, dtype or NaN/inf values.
+        EmptyAffordanceError: no affordance voxel is positive.
+        OutOfWorkspaceError: ``start`` is outside the workspace.
+    """
+    cfg = config or CostMapConfig()
+    aff = check_value_map("affordance", affordance_map, grid)
+    start_m = np.asarray(start, dtype=np.float64).reshape(-1)
+    if start_m.shape != (3,) or not np.all(np.isfinite(start_m)):
+        raise OutOfWorkspaceError(f"start must be a finite 3-vector [m]; got {start!r}")
+    grid.world_to_voxel(start_m)  # raises when outside the workspace
+    peak = float(aff.max())
+    if peak <= 0:
+        raise EmptyAffordanceError(
+            "affordance map has no positive voxel (max value "
+            f"{peak:g}); set the target voxels to a value > 0 so something attracts the entity"
+        )
+    flat_targets = np.flatnonzero(aff.reshape(-1) >= peak * cfg.target_threshold)
+    fine_targets = np.stack(np.unravel_index(flat_targets, grid.shape), axis=1).astype(np.int64)
+
+    f = cfg.downsample
+    coarse = grid.coarsen(f)
+    target_mask = np.zeros(coarse.shape, dtype=bool)
+    ct = fine_targets // f
+    target_mask[ct[:, 0], ct[:, 1], ct[:, 2]] = True
+
+    # Affordance: distance to the nearest target, normalised.
+    target_distance = _distance_to(target_mask, np.unique(ct, axis=0))
+    affordance_cost = _normalise(target_distance.copy())
+
+    fine_obstacles = _scene_obstacles(grid, occupancy, entity_occupancy, start_m, fine_targets, cfg)
+
+    # Avoidance: pooled, Gaussian-smoothed, normalised.
+    avoid = (
+        None
+        if avoidance_map is None
+        else np.maximum(check_value_map("avoidance", avoidance_map, grid), 0)
+    )
+    if cfg.obstacles_as_avoidance and fine_obstacles.any():
+        solid = fine_obstacles.astype(np.float32)
+        avoid = solid if avoid is None else np.maximum(avoid, solid)
+    avoidance_cost = np.zeros(coarse.shape, dtype=np.float32)
+    if avoid is not None and float(avoid.max()) > 0:
+        pooled = pool_max(avoid.astype(np.float32, copy=False), f)
+        avoidance_cost = _normalise(_smooth(pooled, cfg.avoidance_sigma / f, cfg.gaussian_truncate))
+
+    cost = cfg.affordance_weight * affordance_cost
+    if cfg.avoidance_weight > 0:
+        cost += cfg.avoidance_weight * avoidance_cost
+
+    obstacles = pool_max(fine_obstacles, f)
+    obstacles &= ~target_mask
+    return CostMap(
+        grid=coarse,
+        fine_grid=grid,
+        cost=cost.astype(np.float32, copy=False),
+        affordance_cost=affordance_cost,
+        avoidance_cost=avoidance_cost,
+        target_distance=target_distance,
+        target_mask=target_mask,
+        obstacles=obstacles,
+        fine_obstacles=fine_obstacles,
+        fine_targets=fine_targets,
+        start=start_m,
+        config=cfg,
+    )
+
+
+def _scene_obstacles(
+    grid: VoxelGrid,
+    occupancy: NDArray[np.bool_] | None,
+    entity_occupancy: NDArray[np.bool_] | None,
+    start: NDArray[np.float64],
+    fine_targets: NDArray[np.int64],
+    cfg: CostMapConfig,
+) -> NDArray[np.bool_]:
+    """Scene occupancy minus the entity, grown by the margin, cleared at both ends."""
+    obstacles = np.zeros(grid.shape, dtype=bool)
+    if occupancy is None:
+        return obstacles
+    occ = np.asarray(occupancy)
+    if occ.shape != grid.shape:
+        raise OutOfWorkspaceError(f"occupancy has shape {occ.shape}; expected {grid.shape}")
+    obstacles = occ.astype(bool, copy=True)
+    if entity_occupancy is not None:
+        ent = np.asarray(entity_occupancy, dtype=bool)
+        if ent.shape != grid.shape:
+            raise OutOfWorkspaceError(
+                f"entity_occupancy has shape {ent.shape}; expected {grid.shape}"
+            )
+        obstacles &= ~ent
+    if cfg.obstacle_margin_cm > 0:
+        radius = cfg.obstacle_margin_cm / 100.0 / grid.resolution
+        obstacles = ndimage.binary_dilation(obstacles, structure=_ball(radius))
+    _clear_sphere(obstacles, grid, start, cfg.entity_clear_radius_cm)
+    for target in _target_representatives(grid, fine_targets):
+        _clear_sphere(obstacles, grid, target, cfg.target_clear_radius_cm)
+    obstacles[fine_targets[:, 0], fine_targets[:, 1], fine_targets[:, 2]] = False
+    return obstacles
+
+
+def _target_representatives(
+    grid: VoxelGrid, fine_targets: NDArray[np.int64], limit: int = 64
+) -> NDArray:
+    """World points [m], shape (<= limit, 3), spread over the target voxels, for clearing.
+
+    A large target region (e.g. "the left side of the table") needs no clearing everywhere: the
+    target voxels themselves are always free, and clearing around a sample suffices to let the
+    path in.
+    """
+    if len(fine_targets) <= limit:
+        return grid.voxel_to_world(fine_targets)
+    pick = np.linspace(0, len(fine_targets) - 1, limit).astype(int)
+    return grid.voxel_to_world(fine_targets[pick])
