@@ -20,22 +20,24 @@ def _volume_trace(plan: Plan) -> go.Volume:
     cmap = plan.cost_map
     step = max(1, int(np.ceil(max(cmap.grid.shape) / _MAX_VOLUME_SIDE)))
     cost = cmap.cost[::step, ::step, ::step].astype(np.float64)
-    blocked = cmap.obstacles[::step, ::step, ::step]
     idx = np.stack(
         np.meshgrid(*[np.arange(0, n, step) for n in cmap.grid.shape], indexing="ij"), -1
     )
     xyz = cmap.grid.voxel_to_world(idx.reshape(-1, 3))
-    values = np.where(blocked, np.nan, cost).ravel()
     return go.Volume(
         x=xyz[:, 0],
         y=xyz[:, 1],
         z=xyz[:, 2],
-        value=values,
-        opacity=0.08,
-        surface_count=12,
+        value=cost.ravel(),
+        isomin=0.0,
+        isomax=float(cost.max()),
+        opacity=0.12,
+        surface_count=10,
         colorscale="Viridis",
-        colorbar={"title": "cost"},
+        reversescale=True,
+        colorbar={"title": "cost", "x": -0.05, "len": 0.6},
         name="cost map",
+        showlegend=True,
     )
 
 

@@ -1,0 +1,75 @@
+import numpy as np
+import pytest
+
+from voxposer.envs.synthetic import box_surface_points
+from voxposer.errors import ConfigError, PlanningError
+from voxposer.planning.pushing import (
+    PushConfig,
+    push_waypoints,
+    random_shooting,
+    translate_points,
+)
+from voxposer.valuemaps import ValueMapAPI, VoxelGrid, compose_cost_map
+
+BLOCK = box_surface_points(np.array([0.475, 0.475, 0.0]), np.array([0.525, 0.525, 0.05]))
+CENTRE = BLOCK.mean(axis=0)
+
+
+def test_dynamics_translates_every_point_along_the_push() -> None:
+    dirs = np.array([[1.0, 0, 0], [0, -1.0, 0]])
+    moved = translate_points(BLOCK, dirs, np.array([0.05, 0.02]))
+    assert moved.shape == (2, len(BLOCK), 3)
+    np.testing.assert_allclose(moved[0] - BLOCK, np.tile([0.05, 0, 0], (len(BLOCK), 1)))
+    np.testing.assert_allclose(moved[1] - BLOCK, np.tile([0, -0.02, 0], (len(BLOCK), 1)))
+
+
+@pytest.mark.parametrize("heading", [0.0, np.pi / 2, 2.5, -2.0])
+def test_mpc_pushes_towards_the_path_and_contacts_the_rear_face(heading: float) -> None:
+    u = np.array([np.cos(heading), np.sin(heading), 0.0])
+    path = CENTRE + np.linspace(0, 0.3, 31)[:, None] * u
+    action = random_shooting(BLOCK, path, np.random.default_rng(0))
+    assert action.direction @ u > 0.99
+    assert action.distance == pytest.approx(0.06, abs=0.01)  # the look-ahead
+    assert np.linalg.norm(action.predicted_position - (CENTRE + 0.06 * u)) < 0.01
+    # contact on the face opposite the push, at push height
+    rear = CENTRE - u * (0.025 / max(abs(u[0]), abs(u[1])))
+    assert np.linalg.norm(action.contact[:2] - rear[:2]) < 0.03
+    assert action.contact[2] == pytest.approx(0.02)
+
+
+def test_mpc_respects_a_sliding_axis() -> None:
+    path = CENTRE + np.linspace(0, 0.2, 21)[:, None] * np.array([0.7, 0.7, 0])
+    action = random_shooting(BLOCK, path, np.random.default_rng(1), axis=np.array([1.0, 0, 0]))
+    np.testing.assert_allclose(action.direction, [1, 0, 0])
+
+
+def test_mpc_avoids_pushing_into_obstacles() -> None:
+    grid = VoxelGrid((0, 0, 0), (1, 1, 1))
+    api = ValueMapAPI(grid)
+    aff = api.get_empty_affordance_map()
+    aff[tuple(grid.world_to_voxel([0.8, 0.5, 0.025]))] = 1
+    wall = box_surface_points(np.array([0.56, 0.40, 0.0]), np.array([0.58, 0.60, 0.1]))
+    cmap = compose_cost_map(grid, aff, CENTRE, occupancy=grid.points_to_occupancy(wall))
+    straight = CENTRE + np.linspace(0, 0.3, 31)[:, None] * np.array([1.0, 0, 0])
+    free = random_shooting(BLOCK, straight, np.random.default_rng(2))
+    blocked = random_shooting(BLOCK, straight, np.random.default_rng(2), cost_map=cmap)
+    assert free.distance > 0.05
+    moved_front = blocked.predicted_position[0] + 0.025
+    assert moved_front < 0.565  # stops short of the wall rather than pushing into it
+
+
+def test_push_waypoints_approach_from_behind_and_follow_through() -> None:
+    path = CENTRE + np.linspace(0, 0.3, 31)[:, None] * np.array([1.0, 0, 0])
+    action = random_shooting(BLOCK, path, np.random.default_rng(3))
+    wps = push_waypoints(action)
+    assert wps.shape == (5, 3)
+    assert wps[1][0] < action.contact[0] - 0.04  # starts behind the contact point
+    assert wps[2][0] == pytest.approx(action.contact[0] + action.distance - 0.01, abs=0.01)
+    assert wps[0][2] > wps[1][2] and wps[4][2] > wps[3][2]  # lowers in, lifts out
+
+
+def test_bad_push_input() -> None:
+    with pytest.raises(PlanningError, match="no observed points"):
+        random_shooting(np.zeros((0, 3)), np.zeros((2, 3)), np.random.default_rng(0))
+    with pytest.raises(ConfigError, match="min_distance_m"):
+        PushConfig(min_distance_m=0.2, max_distance_m=0.1)
