@@ -95,3 +95,19 @@ class InvalidActionError(VoxPoserError, ValueError):
 
 class SimulationUnstableError(VoxPoserError):
     """The physics state became NaN/inf or diverged; call ``reset`` before stepping again."""
+
+
+class LLMError(VoxPoserError):
+    """A language model backend failed (not configured, unreachable, or kept failing)."""
+
+
+class ModelNotInstalledError(LLMError):
+    """No model is configured and the bundled default model is not installed."""
+
+
+class SandboxError(VoxPoserError):
+    """Generated code used a refused construct, or exceeded a time or size limit."""
+
+
+class ProgramError(VoxPoserError):
+    """A language model program's code failed (after any retries); carries the last attempt."""

@@ -6,7 +6,7 @@ from scipy.sparse.csgraph import dijkstra
 from voxposer.envs.synthetic import box_surface_points, make_synthetic_scene
 from voxposer.errors import ConfigError, StartBlockedError, TargetUnreachableError
 from voxposer.planning import PathPlanner, PlannerConfig, astar
-from voxposer.valuemaps import CostMapConfig, ValueMapAPI, VoxelGrid, pointat2quat
+from voxposer.valuemaps import TOP_DOWN_QUAT, CostMapConfig, ValueMapAPI, VoxelGrid, pointat2quat
 
 
 @pytest.fixture(scope="module")
@@ -79,7 +79,7 @@ def test_maps_are_read_along_the_trajectory(scene) -> None:
         atol=1e-6,
     )
     np.testing.assert_allclose(
-        traj.quaternions[d > 0.11], np.tile([1, 0, 0, 0], ((d > 0.11).sum(), 1)), atol=1e-6
+        traj.quaternions[d > 0.11], np.tile(TOP_DOWN_QUAT, ((d > 0.11).sum(), 1)), atol=1e-6
     )
     wp = traj[len(traj) - 1]
     assert wp.velocity_scale == 0.5 and wp.gripper == 1.0

@@ -3,7 +3,13 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from voxposer.errors import InvalidMapError, OutOfWorkspaceError
-from voxposer.valuemaps import ValueMapAPI, VoxelGrid, check_value_map, pointat2quat
+from voxposer.valuemaps import (
+    TOP_DOWN_QUAT,
+    ValueMapAPI,
+    VoxelGrid,
+    check_value_map,
+    pointat2quat,
+)
 
 
 @pytest.fixture
@@ -73,7 +79,9 @@ def test_pointat2quat_points_the_approach_axis(vector) -> None:
 
 
 def test_pointat2quat_down_is_the_top_down_grasp() -> None:
-    np.testing.assert_allclose(pointat2quat([0, 0, -1]), [1, 0, 0, 0], atol=1e-12)
+    q = pointat2quat([0, 0, -1])
+    np.testing.assert_allclose(q, TOP_DOWN_QUAT, atol=1e-12)
+    np.testing.assert_allclose(Rotation.from_quat(q).apply([0, 0, 1]), [0, 0, -1], atol=1e-12)
 
 
 def test_check_value_map_rejects_bad_maps(api: ValueMapAPI) -> None:

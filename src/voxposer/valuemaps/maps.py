@@ -36,9 +36,10 @@ MAP_CHANNELS: Final[dict[str, int]] = {
     "gripper": 1,
 }
 
-#: Orientation of the end effector pointing straight down (its local +z along world −z, its
-#: local +x along world +x), scalar-last (x, y, z, w).
-TOP_DOWN_QUAT: Final = (1.0, 0.0, 0.0, 0.0)
+#: Orientation of the end effector pointing straight down, scalar-last (x, y, z, w): its local
+#: +z (approach axis) along world −z, local +x along world +y and local +y along world +x (the
+#: Panda hand's fingers then close along world x). A half turn about (1, 1, 0)/√2.
+TOP_DOWN_QUAT: Final = (float(np.sqrt(0.5)), float(np.sqrt(0.5)), 0.0, 0.0)
 
 
 def check_value_map(kind: str, value_map: object, grid: VoxelGrid) -> NDArray[np.floating]:
