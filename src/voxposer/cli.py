@@ -3,6 +3,7 @@
 Commands:
     plan-demo   plan through the built-in synthetic scene (global planner vs the paper's greedy
                 one) and write an HTML picture of the cost map and both paths.
+    render      render the four camera views of a seeded tabletop scene to one PNG.
 """
 
 from __future__ import annotations
@@ -82,6 +83,9 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=int, default=0, help="seed for the random obstacle blobs")
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
     demo.set_defaults(func=_plan_demo)
+    from voxposer.envs import render_cmd
+
+    render_cmd.add_parser(sub)
     return parser
 
 

@@ -111,3 +111,50 @@ class SandboxError(VoxPoserError):
 
 class ProgramError(VoxPoserError):
     """A language model program's code failed (after any retries); carries the last attempt."""
+
+
+class EndpointError(LLMError):
+    """An LLM endpoint kept failing (unreachable, timing out, or answering an error status).
+
+    Attributes:
+        url: the endpoint's base URL.
+        model: the model requested.
+        status: the last HTTP status code (None when no response arrived: refused, timed out).
+        attempts: how many requests were made before giving up.
+    """
+
+    def __init__(
+        self, message: str, *, url: str, model: str, status: int | None, attempts: int
+    ) -> None:
+        self.url = url
+        self.model = model
+        self.status = status
+        self.attempts = attempts
+        super().__init__(message)
+
+
+class ModelIntegrityError(LLMError):
+    """An assembled or configured model file is incomplete or fails its sha256 check."""
+
+
+class ResultError(VoxPoserError, ValueError):
+    """A language model program ran but its result is missing or fails a sanity check
+    (a map left unchanged, a velocity scale out of range…)."""
+
+
+class LMPFailedError(ProgramError):
+    """A language model program kept failing; ``attempts`` holds every (code, error) tried.
+
+    Attributes:
+        lmp: the LMP's name, e.g. "get_affordance_map".
+        query: the query it was given.
+        attempts: one ``{"code": str, "error": str}`` per attempt, in order.
+    """
+
+    def __init__(self, lmp: str, query: str, attempts: list[dict[str, str]]) -> None:
+        self.lmp = lmp
+        self.query = query
+        self.attempts = list(attempts)
+        last = attempts[-1]["error"] if attempts else "no attempt"
+        super().__init__(f"{lmp}({query!r}) failed after {len(attempts)} attempt(s); last error: "
+                         f"{last}")

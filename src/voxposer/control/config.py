@@ -1,0 +1,64 @@
+"""Configuration of closed-loop execution (paper Sec. 3.3, Sec. 4 "Motion Planner")."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from voxposer.errors import ConfigError
+from voxposer.planning.planner import PlannerConfig
+from voxposer.planning.pushing import PushConfig
+from voxposer.valuemaps.cost import CostMapConfig
+
+
+def _object_planner() -> PlannerConfig:
+    # An object's centre must keep its half-width (blocks: 2.5 cm) away from other objects.
+    return PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=3.0, entity_clear_radius_cm=4.0))
+
+
+@dataclass(frozen=True)
+class ExecutorConfig:
+    """Closed-loop execution parameters.
+
+    Attributes:
+        replan_hz: replanning rate in simulated time [Hz]: after each plan the robot follows the
+            trajectory for ``1 / replan_hz`` seconds, then observes and replans (paper: 5 Hz).
+        max_time_s: simulated time limit of one ``execute`` call [s].
+        reach_tolerance_m: the entity has arrived within this distance of the target [m].
+        lookahead_m: the controller is steered toward the trajectory point this far ahead [m].
+        stall_replans: give up after this many replans without ``min_progress_m`` of progress.
+        min_progress_m: progress that resets the stall counter [m].
+        max_pushes: pushes allowed for an object entity before giving up.
+        ee_planner: planner parameters when the end effector is the entity.
+        object_planner: planner parameters when an object or part is the entity.
+        push: random-shooting MPC parameters.
+    """
+
+    replan_hz: float = 5.0
+    max_time_s: float = 40.0
+    reach_tolerance_m: float = 0.02
+    lookahead_m: float = 0.04
+    stall_replans: int = 15
+    min_progress_m: float = 0.005
+    max_pushes: int = 25
+    ee_planner: PlannerConfig = field(
+        default_factory=lambda: PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=1.0))
+    )
+    object_planner: PlannerConfig = field(default_factory=_object_planner)
+    push: PushConfig = field(default_factory=PushConfig)
+
+    def __post_init__(self) -> None:
+        for name in (
+            "replan_hz",
+            "max_time_s",
+            "reach_tolerance_m",
+            "lookahead_m",
+            "min_progress_m",
+        ):
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+                raise ConfigError(f"ExecutorConfig.{name} must be a positive number; got {value!r}")
+        for name in ("stall_replans", "max_pushes"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or value < 1:
+                raise ConfigError(f"ExecutorConfig.{name} must be an int >= 1; got {value!r}")

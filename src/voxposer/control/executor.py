@@ -1,0 +1,413 @@
+"""``execute(movable, affordance_map, …)``: closed-loop execution of composed value maps.
+
+Paper Sec. 3.3 and App. A.3. The entity of interest and every value map are callables
+re-evaluated at every replanning step against the latest observation (the cached LLM programs run
+again; no new LLM call). The loop: observe → recompose maps → plan → follow the trajectory for
+one replanning period → repeat, until the entity reaches the affordance target, progress stalls
+or the time limit passes — and the result says which.
+
+When the entity is the end effector the trajectory is followed through the world's pose
+controller with the velocity scale, orientation and gripper command read from the maps. When it
+is an object or a part (a drawer, a handle), the planner plans the object's path and
+random-shooting MPC over a planar pushing model chooses each push
+(:mod:`voxposer.planning.pushing`), executed by a pushing primitive.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any, Literal, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from voxposer.control.config import ExecutorConfig
+from voxposer.control.scene_occupancy import is_end_effector, scene_occupancy
+from voxposer.errors import PlanningError, UnreachablePoseError, VoxPoserError
+from voxposer.planning.planner import PathPlanner, Plan
+from voxposer.planning.pushing import push_waypoints, random_shooting
+from voxposer.valuemaps.maps import pointat2quat
+
+log = logging.getLogger(__name__)
+
+StopReason = Literal["reached", "stalled", "timeout", "unreachable", "planning_failed"]
+MapSource = Callable[[], NDArray[Any]] | NDArray[Any] | None
+
+
+class World(Protocol):
+    """What execution needs of a world (:class:`voxposer.envs.TabletopWorld` provides it)."""
+
+    grid: Any
+    config: Any
+
+    def observe(self) -> Any: ...
+    def detect(self, name: str) -> Any: ...
+    def step(
+        self, position: Any, quat_xyzw: Any, gripper: float | None = None, speed_scale: float = 1.0
+    ) -> Any: ...
+    def move_to_pose(
+        self,
+        position: Any,
+        quat_xyzw: Any = None,
+        speed_scale: float = 1.0,
+        gripper: float | None = None,
+    ) -> Any: ...
+    def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+    def get_gripper_state(self) -> float: ...
+
+
+@dataclass
+class ExecutionResult:
+    """What one ``execute`` call did.
+
+    Attributes:
+        success: the entity reached the affordance target.
+        reason: why the loop stopped.
+        message: a sentence for people (and for the LLM when it retries).
+        entity: the entity's name.
+        replans: planning steps taken.
+        sim_time: simulated time spent [s].
+        wall_time: wall time spent [s].
+        final_distance: entity-to-target distance at the end [m].
+        entity_path: the entity's observed positions, one per replan [m], shape (R, 3).
+        trace: end-effector positions after every control period [m], shape (T, 3), and
+            ``trace_time``, shape (T,), their simulation times [s] (for speed and clearance
+            checks over the whole motion).
+        last_plan: the last plan (for pictures).
+        timings_ms: per replan, wall time of observe, maps, plan [ms].
+    """
+
+    success: bool
+    reason: StopReason
+    message: str
+    entity: str
+    replans: int = 0
+    sim_time: float = 0.0
+    wall_time: float = 0.0
+    final_distance: float = float("inf")
+    entity_path: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
+    trace: list[NDArray[np.float64]] = field(default_factory=list)
+    trace_time: list[float] = field(default_factory=list)
+    last_plan: Plan | None = None
+    timings_ms: list[dict[str, float]] = field(default_factory=list)
+
+    @property
+    def replan_hz(self) -> float:
+        """Replanning steps per wall second, observation + maps + planning included (median)."""
+        if not self.timings_ms:
+            return 0.0
+        per = np.median([sum(t.values()) for t in self.timings_ms]) / 1000.0
+        return float(1.0 / per) if per > 0 else float("inf")
+
+
+def _evaluate(source: Any) -> Any:
+    return source() if callable(source) else source
+
+
+class ClosedLoopExecutor:
+    """Runs ``execute`` against a world. One instance per world; reusable across calls."""
+
+    def __init__(
+        self, world: World, rng: np.random.Generator, config: ExecutorConfig | None = None
+    ) -> None:
+        self.world = world
+        self.rng = rng
+        self.config = config or ExecutorConfig()
+        self.ee_planner = PathPlanner(world.grid, self.config.ee_planner)
+        self.object_planner = PathPlanner(world.grid, self.config.object_planner)
+        self.history: list[ExecutionResult] = []
+        #: called after every replan with (result so far, plan); for live progress displays
+        self.on_replan: Callable[[ExecutionResult, Plan], None] | None = None
+
+    def __call__(
+        self,
+        movable: Any,
+        affordance_map: MapSource = None,
+        avoidance_map: MapSource = None,
+        rotation_map: MapSource = None,
+        velocity_map: MapSource = None,
+        gripper_map: MapSource = None,
+    ) -> ExecutionResult:
+        """Execute until the entity reaches the affordance target (see module docs).
+
+        Args:
+            movable: the entity — a detected object, or a callable returning one
+                (``detect("gripper")`` for the end effector).
+            affordance_map … gripper_map: arrays or callables returning arrays on the world's
+                grid; None = not specified. The affordance map is required.
+        """
+        if affordance_map is None:
+            raise PlanningError("execute() needs an affordance_map: nothing says where to go")
+        entity = _evaluate(movable)
+        name = str(entity["name"])
+        maps = {
+            "affordance_map": affordance_map,
+            "avoidance_map": avoidance_map,
+            "rotation_map": rotation_map,
+            "velocity_map": velocity_map,
+            "gripper_map": gripper_map,
+        }
+        if is_end_effector(name):
+            result = self._run_end_effector(name, maps)
+        else:
+            result = self._run_object(movable, name, maps)
+        self.history.append(result)
+        return result
+
+    # ----------------------------------------------------------- end effector
+    def _run_end_effector(self, name: str, maps: dict[str, MapSource]) -> ExecutionResult:
+        cfg = self.config
+        world = self.world
+        period = 1.0 / cfg.replan_hz
+        control_dt = float(world.config.controller.control_dt)
+        steps_per_replan = max(1, round(period / control_dt))
+        result = ExecutionResult(False, "timeout", "", name)
+        path: list[NDArray[np.float64]] = []
+        t_wall, t_sim0 = time.perf_counter(), self._sim_time()
+        best, since_best = float("inf"), 0
+        while True:
+            t0 = time.perf_counter()
+            obs = world.observe()
+            t1 = time.perf_counter()
+            values = {k: _evaluate(v) for k, v in maps.items()}
+            t2 = time.perf_counter()
+            ee_pos, ee_quat = world.get_ee_pose()
+            try:
+                plan = self.ee_planner.plan(
+                    values["affordance_map"],
+                    ee_pos,
+                    avoidance_map=values["avoidance_map"],
+                    rotation_map=values["rotation_map"],
+                    velocity_map=values["velocity_map"],
+                    gripper_map=values["gripper_map"],
+                    occupancy=scene_occupancy(
+                        obs, world.grid, entity=name, holding=world.get_gripper_state() >= 0.5
+                    ),
+                    current_quat=ee_quat,
+                    current_gripper=world.get_gripper_state(),
+                )
+            except PlanningError as err:
+                return self._finish(result, "planning_failed", str(err), path, t_wall, t_sim0)
+            t3 = time.perf_counter()
+            result.timings_ms.append(
+                {"observe": (t1 - t0) * 1e3, "maps": (t2 - t1) * 1e3, "plan": (t3 - t2) * 1e3}
+            )
+            result.replans += 1
+            result.last_plan = plan
+            path.append(ee_pos)
+            dist = float(np.linalg.norm(ee_pos - plan.target))
+            result.final_distance = dist
+            if self.on_replan is not None:
+                self.on_replan(result, plan)
+            if dist <= cfg.reach_tolerance_m:
+                self._finish_gripper(plan)
+                return self._finish(
+                    result,
+                    "reached",
+                    f"{name} reached the target ({dist * 100:.1f} cm away)",
+                    path,
+                    t_wall,
+                    t_sim0,
+                )
+            if dist < best - cfg.min_progress_m:
+                best, since_best = dist, 0
+            else:
+                since_best += 1
+                if since_best >= cfg.stall_replans:
+                    return self._finish(
+                        result,
+                        "stalled",
+                        f"{name} stopped making progress {dist * 100:.1f} cm from "
+                        "the target (blocked or unreachable?)",
+                        path,
+                        t_wall,
+                        t_sim0,
+                    )
+            if self._sim_time() - t_sim0 >= cfg.max_time_s:
+                return self._finish(
+                    result,
+                    "timeout",
+                    f"time limit {cfg.max_time_s:.0f} s reached "
+                    f"{dist * 100:.1f} cm from the target",
+                    path,
+                    t_wall,
+                    t_sim0,
+                )
+            self._follow(plan, steps_per_replan, result)
+
+    def _follow(self, plan: Plan, steps: int, result: ExecutionResult) -> None:
+        """Steer the controller along ``plan`` for ``steps`` control periods."""
+        traj = plan.trajectory
+        pos = traj.positions
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pos, axis=0), axis=1))])
+        for _ in range(steps):
+            here = self.world.get_ee_pose()[0]
+            near = int(np.argmin(np.linalg.norm(pos - here, axis=1)))
+            ahead = min(
+                int(np.searchsorted(arc, arc[near] + self.config.lookahead_m)), len(pos) - 1
+            )
+            wp = traj[ahead]
+            res = self.world.step(
+                wp.position,
+                wp.quaternion,
+                gripper=float(traj.gripper[near]),
+                speed_scale=wp.velocity_scale,
+            )
+            result.trace.append(np.asarray(res.ee_position, dtype=np.float64))
+            result.trace_time.append(float(res.time))
+            if getattr(res, "at_goal", False) and ahead == len(pos) - 1:
+                break
+
+    def _finish_gripper(self, plan: Plan) -> None:
+        """Apply the gripper command of the target voxel once there (e.g. close to grasp)."""
+        want = float(plan.trajectory.gripper[-1])
+        if (want >= 0.5) != (self.world.get_gripper_state() >= 0.5):
+            if want >= 0.5:
+                self.world.close_gripper()  # type: ignore[attr-defined]
+            else:
+                self.world.open_gripper()  # type: ignore[attr-defined]
+
+    # ----------------------------------------------------------------- objects
+    def _run_object(self, movable: Any, name: str, maps: dict[str, MapSource]) -> ExecutionResult:
+        cfg = self.config
+        world = self.world
+        result = ExecutionResult(False, "timeout", "", name)
+        path: list[NDArray[np.float64]] = []
+        t_wall, t_sim0 = time.perf_counter(), self._sim_time()
+        axis_of = getattr(world, "sliding_axis", None)
+        axis = axis_of(name) if callable(axis_of) else None
+        best, since_best = float("inf"), 0
+        for _ in range(cfg.max_pushes):
+            t0 = time.perf_counter()
+            obs = world.observe()
+            entity = _evaluate(movable)
+            t1 = time.perf_counter()
+            values = {k: _evaluate(v) for k, v in maps.items()}
+            t2 = time.perf_counter()
+            centre = np.asarray(entity["position"], dtype=np.float64)
+            try:
+                plan = self.object_planner.plan(
+                    values["affordance_map"],
+                    centre,
+                    avoidance_map=values["avoidance_map"],
+                    occupancy=scene_occupancy(
+                        obs, world.grid, entity=name, holding=False, ignore_table=True
+                    ),
+                    entity_occupancy=entity["occupancy"],
+                )
+            except PlanningError as err:
+                return self._finish(result, "planning_failed", str(err), path, t_wall, t_sim0)
+            target = plan.target
+            if axis is not None:  # parts slide along an axis: only that component matters
+                dist = float(abs((target - centre) @ axis))
+            else:
+                dist = float(np.linalg.norm((target - centre)[:2]))
+            t3 = time.perf_counter()
+            result.timings_ms.append(
+                {"observe": (t1 - t0) * 1e3, "maps": (t2 - t1) * 1e3, "plan": (t3 - t2) * 1e3}
+            )
+            result.replans += 1
+            result.last_plan = plan
+            result.final_distance = dist
+            path.append(centre)
+            if self.on_replan is not None:
+                self.on_replan(result, plan)
+            if dist <= cfg.reach_tolerance_m:
+                return self._finish(
+                    result,
+                    "reached",
+                    f"{name} reached the target ({dist * 100:.1f} cm away)",
+                    path,
+                    t_wall,
+                    t_sim0,
+                )
+            if dist < best - cfg.min_progress_m:
+                best, since_best = dist, 0
+            else:
+                since_best += 1
+                if since_best >= 3:
+                    return self._finish(
+                        result,
+                        "stalled",
+                        f"pushing {name} made no progress; {dist * 100:.1f} cm from the target",
+                        path,
+                        t_wall,
+                        t_sim0,
+                    )
+            path_xy = plan.trajectory.positions
+            action = random_shooting(
+                entity["points"],
+                path_xy,
+                self.rng,
+                cost_map=plan.cost_map,
+                axis=axis,
+                config=cfg.push,
+            )
+            if axis is not None:  # a part: push at its centre height, no farther than needed
+                contact = np.array([*action.contact[:2], centre[2]])
+                action = action._replace(
+                    contact=contact, distance=min(action.distance, dist + 0.005)
+                )
+            try:
+                self._push(action, sideways=axis is not None)
+            except UnreachablePoseError as err:
+                log.info("push unreachable (%s); sampling another", err)
+                since_best += 1
+            if self._sim_time() - t_sim0 >= cfg.max_time_s:
+                return self._finish(
+                    result,
+                    "timeout",
+                    f"time limit {cfg.max_time_s:.0f} s reached "
+                    f"{dist * 100:.1f} cm from the target",
+                    path,
+                    t_wall,
+                    t_sim0,
+                )
+        return self._finish(
+            result,
+            "stalled",
+            f"{cfg.max_pushes} pushes did not bring {name} to the target",
+            path,
+            t_wall,
+            t_sim0,
+        )
+
+    def _push(self, action: Any, sideways: bool) -> None:
+        """The pushing primitive: above → behind the contact → through → back → up.
+
+        Objects are pushed with the hand pointing down; parts (drawers) with the hand pointing
+        along the push, so the forearm stays clear of the cabinet.
+        """
+        quat = pointat2quat(action.direction if sideways else [0.0, 0.0, -1.0])
+        self.world.close_gripper()  # type: ignore[attr-defined]
+        for k, point in enumerate(push_waypoints(action)):
+            speed = 0.5 if k == 2 else 1.0
+            self.world.move_to_pose(point, quat, speed_scale=speed)
+
+    # ------------------------------------------------------------------ common
+    def _sim_time(self) -> float:
+        return float(getattr(getattr(self.world, "data", None), "time", 0.0))
+
+    def _finish(
+        self,
+        result: ExecutionResult,
+        reason: StopReason,
+        message: str,
+        path: list[NDArray[np.float64]],
+        t_wall: float,
+        t_sim0: float,
+    ) -> ExecutionResult:
+        result.success = reason == "reached"
+        result.reason = reason
+        result.message = message
+        result.entity_path = np.asarray(path).reshape(-1, 3)
+        result.wall_time = time.perf_counter() - t_wall
+        result.sim_time = self._sim_time() - t_sim0
+        log.info("execute(%s): %s — %s", result.entity, reason, message)
+        return result
+
+
+__all__ = ["ClosedLoopExecutor", "ExecutionResult", "StopReason", "VoxPoserError", "World"]

@@ -1,0 +1,157 @@
+"""The world's read-only side: cameras, fused cloud, ``detect``, robot and object state.
+
+A mixin of :class:`voxposer.envs.world.TabletopWorld`; split out so that physics/control and
+perception each stay one concept. Observations are cached until the physics state changes, so
+several ``detect`` calls at one instant render the cameras once.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from voxposer.envs.cameras import CameraRenderer
+from voxposer.envs.config import WorldConfig
+from voxposer.envs.controller import wxyz_to_xyzw
+from voxposer.envs.observation import Observation
+from voxposer.envs.registry import OBJECTS, ObjectRegistry
+from voxposer.perception.detect import DetectedObject, detect_in_cloud
+from voxposer.perception.point_cloud import fuse_views
+from voxposer.valuemaps.grid import VoxelGrid
+
+
+class SensingMixin:
+    """Observation, detection and state queries (needs the attributes declared below)."""
+
+    config: WorldConfig
+    grid: VoxelGrid
+    model: mujoco.MjModel
+    data: mujoco.MjData
+    registry: ObjectRegistry
+    _renderer: CameraRenderer | None
+    _obs: Observation | None
+    _obs_key: tuple[float, int, int] | None
+    _present: tuple[str, ...]
+    _gripper: float
+    _ee_site: int
+    _finger_qpos: NDArray[np.int64]
+
+    # ----------------------------------------------------------------- names
+    @property
+    def object_names(self) -> tuple[str, ...]:
+        """Names of the objects in the current scene (what ``detect`` accepts)."""
+        return self._present
+
+    @property
+    def camera_names(self) -> tuple[str, ...]:
+        """The cameras, e.g. ``("front_left", "front_right", "back_left", "back_right")``."""
+        return self.config.cameras.names
+
+    # ------------------------------------------------------------ rendering
+    def _camera_renderer(self) -> CameraRenderer:
+        if self._renderer is None:
+            cams = self.config.cameras
+            self._renderer = CameraRenderer(self.model, self.registry.geom_labels,
+                                            shadows=cams.shadows, depth_max=cams.depth_max,
+                                            detailed_robot=cams.detailed_robot)
+        return self._renderer
+
+    def render(self, camera: str, width: int | None = None, height: int | None = None
+               ) -> NDArray[np.uint8]:
+        """RGB image, shape (height, width, 3), of ``camera`` (e.g. ``"front_left"``)."""
+        cams = self.config.cameras
+        frame = self._camera_renderer().render(
+            self.data, f"{camera.removesuffix('_camera')}_camera", width or cams.width,
+            height or cams.height, segmentation=False)
+        return frame.rgb
+
+    def observe(self, width: int | None = None, height: int | None = None) -> Observation:
+        """All camera views (RGB, depth [m], intrinsics, extrinsics, object ids) and the fused,
+        workspace-cropped, labelled point cloud with normals. Cached until the state changes."""
+        cams = self.config.cameras
+        w, h = width or cams.width, height or cams.height
+        key = (float(self.data.time), w, h)
+        if self._obs is not None and self._obs_key == key:
+            return self._obs
+        renderer = self._camera_renderer()
+        frames = tuple(renderer.render(self.data, f"{name}_camera", w, h) for name in cams.names)
+        pos, quat = self.get_ee_pose()
+        self._obs = Observation(
+            time=float(self.data.time),
+            cameras=frames,
+            cloud=fuse_views(frames, self.grid),
+            ee_position=pos,
+            ee_quat=quat,
+            gripper=self._gripper,
+            label_names=tuple(o.name for o in OBJECTS),
+        )
+        self._obs_key = key
+        return self._obs
+
+    def detect(self, name: str) -> DetectedObject:
+        """Find ``name`` ("blue block", "top drawer handle", "the Cabinet"…) in the fused cloud.
+
+        Raises:
+            UnknownObjectError: the name is not an object of the current scene (lists them).
+            ObjectNotVisibleError: the object is present but no camera sees it.
+        """
+        obj = self.registry.resolve(name, self._present)
+        cloud = self.observe().cloud
+        return detect_in_cloud(cloud, self.registry.family_labels(obj.name), obj.name, self.grid)
+
+    def close(self) -> None:
+        """Release the rendering context (the world stays usable; rendering reopens it)."""
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    # --------------------------------------------------------------- state
+    def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """End-effector position [m], shape (3,), and orientation (x, y, z, w)."""
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, self.data.site_xmat[self._ee_site])
+        return self.data.site_xpos[self._ee_site].copy(), wxyz_to_xyzw(quat)
+
+    def get_gripper_state(self) -> float:
+        """Commanded gripper state: 1.0 closed, 0.0 open."""
+        return self._gripper
+
+    def gripper_opening(self) -> float:
+        """Measured distance between the fingers [m] (0 closed, 0.08 fully open)."""
+        q = self.data.qpos[self._finger_qpos]
+        return float(q[0] - q[1])
+
+    def object_position(self, name: str) -> NDArray[np.float64]:
+        """Simulator ground-truth position [m] of an object's root body (for success checks)."""
+        obj = self.registry.resolve(name, self._present)
+        return self.data.xpos[self.model.body(obj.body).id].copy()
+
+    def object_yaw(self, name: str) -> float:
+        """Simulator ground-truth yaw [rad] of an object's root body about world z."""
+        obj = self.registry.resolve(name, self._present)
+        mat = self.data.xmat[self.model.body(obj.body).id].reshape(3, 3)
+        return math.atan2(mat[1, 0], mat[0, 0])
+
+    def sliding_axis(self, name: str) -> NDArray[np.float64] | None:
+        """World direction, shape (3,), in which a sliding part (a drawer or its handle) opens.
+
+        None for objects that move freely (blocks) or not at all.
+        """
+        obj = self.registry.resolve(name, self._present)
+        if obj.kind not in ("drawer", "handle"):
+            return None
+        drawer = self.registry.resolve(obj.name.removesuffix(" handle"), self._present)
+        joint = self.model.joint(f"{drawer.body}_joint")
+        parent = self.model.jnt_bodyid[joint.id]
+        axis = self.data.xmat[parent].reshape(3, 3) @ self.model.jnt_axis[joint.id]
+        return np.asarray(axis / np.linalg.norm(axis), dtype=np.float64)
+
+    def drawer_opening(self, drawer: str) -> float:
+        """How far a drawer ("top", "middle", "bottom" or "top drawer") is open [m]."""
+        which = drawer.lower().removesuffix(" drawer").strip()
+        obj = self.registry.resolve(f"{which} drawer", self._present)
+        joint = self.model.joint(f"{obj.body}_joint")
+        return float(self.data.qpos[joint.qposadr[0]])

@@ -1,0 +1,149 @@
+"""Closed-loop execution in the MuJoCo world, with hand-written map programs (no LLM)."""
+
+import numpy as np
+import pytest
+
+from voxposer.control import ClosedLoopExecutor, ExecutorConfig
+from voxposer.envs import TabletopWorld
+from voxposer.envs.layout import SceneLayout
+from voxposer.errors import PlanningError
+from voxposer.valuemaps import ValueMapAPI
+
+
+@pytest.fixture(scope="module")
+def world() -> TabletopWorld:
+    return TabletopWorld()
+
+
+def _layout(**poses: tuple[float, float]) -> SceneLayout:
+    blocks = tuple(name.removesuffix("_block") for name in poses)
+    return SceneLayout(
+        blocks=blocks,
+        poses={f"{b} block": p for b, p in zip(blocks, poses.values(), strict=True)},
+        extra_blocks=(0, 0),
+        extra_lines=(0, 0),
+    )
+
+
+def _api(world: TabletopWorld) -> ValueMapAPI:
+    return ValueMapAPI(world.grid, lambda: world.get_ee_pose()[1], world.get_gripper_state)
+
+
+def test_move_above_a_block_while_avoiding_another(world: TabletopWorld) -> None:
+    world.reset(
+        np.random.default_rng(0), _layout(blue_block=(0.0, -0.1), green_block=(-0.12, -0.2))
+    )
+    api, grid = _api(world), world.grid
+
+    def affordance() -> np.ndarray:
+        blue = world.detect("blue block")
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel(blue.position + [0, 0, 0.08]))] = 1
+        return m
+
+    def avoidance() -> np.ndarray:
+        green = world.detect("green block")
+        m = api.get_empty_avoidance_map()
+        api.set_voxel_by_radius(m, grid.world_to_voxel(green.position), 10, 1)
+        return m
+
+    result = ClosedLoopExecutor(world, np.random.default_rng(0))(
+        lambda: world.detect("gripper"), affordance, avoidance
+    )
+    assert result.success, result.message
+    goal = world.object_position("blue block") + [0, 0, 0.08]
+    assert np.linalg.norm(world.get_ee_pose()[0] - goal) < 0.03
+    green = world.object_position("green block")
+    clearance = np.linalg.norm(np.asarray(result.trace) - green, axis=1).min()
+    assert clearance > 0.08  # kept out of the 10 cm avoidance sphere (less the path tolerance)
+    assert result.replans > 3 and result.replan_hz > 0
+
+
+def test_push_a_block_to_a_target(world: TabletopWorld) -> None:
+    world.reset(np.random.default_rng(1), _layout(blue_block=(-0.05, -0.1)))
+    api, grid = _api(world), world.grid
+    goal = np.array([0.10, 0.02, 0.025])
+
+    def affordance() -> np.ndarray:
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel(goal))] = 1
+        return m
+
+    start = world.object_position("blue block")
+    result = ClosedLoopExecutor(world, np.random.default_rng(1))(
+        lambda: world.detect("blue block"), affordance
+    )
+    end = world.object_position("blue block")
+    assert result.success, result.message
+    assert np.linalg.norm(end[:2] - goal[:2]) < 0.05
+    assert np.linalg.norm(end[:2] - start[:2]) > 0.15  # it really moved
+
+
+def test_displaced_target_is_followed_in_closed_loop(world: TabletopWorld) -> None:
+    world.reset(np.random.default_rng(2), _layout(blue_block=(0.05, 0.0)))
+    api, grid = _api(world), world.grid
+
+    def affordance() -> np.ndarray:
+        blue = world.detect("blue block")
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel(blue.position + [0, 0, 0.06]))] = 1
+        return m
+
+    executor = ClosedLoopExecutor(world, np.random.default_rng(2))
+    moved = []
+
+    def disturb(result, plan) -> None:
+        if result.replans == 3 and not moved:
+            moved.append(world.displace_object(np.random.default_rng(7), "blue block"))
+
+    executor.on_replan = disturb
+    result = executor(lambda: world.detect("gripper"), affordance)
+    assert moved, "the disturbance was applied"
+    assert result.success, result.message
+    goal = world.object_position("blue block") + [0, 0, 0.06]
+    assert np.linalg.norm(world.get_ee_pose()[0] - goal) < 0.03
+
+
+def test_missing_affordance_and_unreachable_targets_end_with_a_reason(world: TabletopWorld) -> None:
+    world.reset(np.random.default_rng(3), _layout(blue_block=(0.0, 0.0)))
+    executor = ClosedLoopExecutor(world, np.random.default_rng(3), ExecutorConfig(max_time_s=3.0))
+    with pytest.raises(PlanningError, match="needs an affordance_map"):
+        executor(lambda: world.detect("gripper"))
+    api = _api(world)
+    grid = world.grid
+
+    def inside_table() -> np.ndarray:  # enclosed by the table: the planner finds no path
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel([0.0, 0.0, -0.015]))] = 1
+        return m
+
+    result = executor(lambda: world.detect("gripper"), inside_table)
+    assert not result.success and result.reason == "planning_failed"
+    assert "no collision-free path" in result.message
+
+    def out_of_reach() -> np.ndarray:  # free space, but 1.3 m from the robot's base
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel([0.29, 0.49, 0.9]))] = 1
+        return m
+
+    result = executor(lambda: world.detect("gripper"), out_of_reach)
+    assert not result.success and result.reason in ("stalled", "timeout")
+    assert "cm from the target" in result.message
+
+
+def test_close_a_drawer_by_pushing_its_handle(world: TabletopWorld) -> None:
+    layout = SceneLayout(blocks=("blue",), drawer_openings={"top": 0.15}, extra_blocks=(0, 0))
+    world.reset(np.random.default_rng(4), layout)
+    api, grid = _api(world), world.grid
+    closed = world.detect("top drawer handle").position - 0.15 * world.sliding_axis("top drawer")
+
+    def affordance() -> np.ndarray:
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel(closed))] = 1
+        return m
+
+    result = ClosedLoopExecutor(world, np.random.default_rng(4))(
+        lambda: world.detect("top drawer handle"), affordance
+    )
+    assert result.success, result.message
+    assert world.drawer_opening("top") < 0.02

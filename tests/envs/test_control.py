@@ -1,0 +1,114 @@
+"""Controller and physics: tracking, pushing, grasping, drawers, bad input."""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from voxposer.envs import TOP_DOWN_QUAT, SceneLayout, TabletopWorld
+from voxposer.errors import InvalidActionError, SimulationUnstableError, UnreachablePoseError
+
+
+def _one_block(world: TabletopWorld, xy=(0.0, 0.0), cabinet=False, **kw) -> None:
+    layout = SceneLayout(poses={"blue block": (*xy, 0.0)}, extra_blocks=(0, 0), extra_lines=(0, 0),
+                         cabinet=cabinet, **kw)
+    world.reset(np.random.default_rng(0), layout)
+
+
+def test_ik_tracks_poses(world: TabletopWorld) -> None:
+    _one_block(world)
+    for target in ([-0.1, 0.15, 0.2], [0.05, -0.2, 0.1]):
+        result = world.move_to_pose(target, TOP_DOWN_QUAT)
+        assert result.reached
+        pos, quat = world.get_ee_pose()
+        np.testing.assert_allclose(pos, target, atol=0.01)
+        assert abs(abs(np.dot(quat, TOP_DOWN_QUAT)) - 1) < 1e-3
+
+
+def test_speed_scale_is_honoured(world: TabletopWorld) -> None:
+    _one_block(world)
+    world.move_to_pose([-0.1, -0.15, 0.2], TOP_DOWN_QUAT)
+    slow = world.move_to_pose([-0.1, 0.15, 0.2], TOP_DOWN_QUAT, speed_scale=0.5).duration
+    fast = world.move_to_pose([-0.1, -0.15, 0.2], TOP_DOWN_QUAT, speed_scale=2.0).duration
+    assert slow > 2.5 * fast
+
+
+def test_closed_gripper_pushes_a_block(world: TabletopWorld) -> None:
+    _one_block(world, xy=(0.0, 0.0))
+    world.close_gripper()
+    world.move_to_pose([-0.12, 0.0, 0.1], TOP_DOWN_QUAT)
+    world.move_to_pose([-0.12, 0.0, 0.02], TOP_DOWN_QUAT)
+    start = world.object_position("blue block")
+    world.move_to_pose([0.06, 0.0, 0.02], TOP_DOWN_QUAT, speed_scale=0.5)
+    moved = world.object_position("blue block") - start
+    assert moved[0] >= 0.05
+
+
+def test_grasp_lift_hold_release(world: TabletopWorld) -> None:
+    _one_block(world, xy=(-0.05, 0.1))
+    block = world.detect("blue block").position
+    world.move_to_pose(block + [0, 0, 0.1], TOP_DOWN_QUAT)
+    world.move_to_pose(block, TOP_DOWN_QUAT)
+    world.close_gripper()
+    assert world.get_gripper_state() == 1.0
+    assert 0.03 < world.gripper_opening() < 0.07  # fingers stopped by the block
+    world.move_to_pose(block + [0, 0, 0.12], TOP_DOWN_QUAT)
+    lifted = world.object_position("blue block")
+    assert lifted[2] >= 0.025 + 0.10
+    world.advance(round(2.0 / world.config.timestep))
+    held = world.object_position("blue block")
+    assert held[2] >= 0.025 + 0.10 and np.linalg.norm(held - lifted) < 0.01
+    world.open_gripper()
+    world.advance(500)
+    assert world.object_position("blue block")[2] < 0.03
+
+
+def test_drawer_is_closed_by_pushing(world: TabletopWorld) -> None:
+    _one_block(world, xy=(0.1, -0.2), cabinet=True, drawer_openings={"middle": 0.15})
+    handle = world.detect("middle drawer handle").position
+    # Gripper pointing along +y (toward the cabinet), fingertips against the handle bar.
+    quat = Rotation.from_euler("x", -90, degrees=True).as_quat()
+    world.close_gripper()
+    world.move_to_pose(handle + [0, -0.10, 0.0], quat)
+    world.move_to_pose(handle + [0, -0.03, 0.0], quat)
+    world.move_to_pose(handle + [0, 0.13, 0.0], quat, speed_scale=0.5)
+    assert world.drawer_opening("middle") < 0.02
+
+
+def test_unreachable_pose_reports_closest_error(world: TabletopWorld) -> None:
+    _one_block(world)
+    before = world.get_ee_pose()[0]
+    with pytest.raises(UnreachablePoseError) as info:
+        world.move_to_pose([0.29, 0.49, 0.9], TOP_DOWN_QUAT)
+    assert info.value.position_error > 0.005
+    assert "cm" in str(info.value)
+    np.testing.assert_allclose(world.get_ee_pose()[0], before, atol=0.005)
+
+
+@pytest.mark.parametrize("kwargs", [
+    {"position": [np.nan, 0, 0.2]},
+    {"position": [5.0, 0, 0.2]},
+    {"quat_xyzw": [0, 0, 0, 0]},
+    {"gripper": 2.0},
+    {"speed_scale": 0.0},
+    {"speed_scale": float("nan")},
+])
+def test_bad_actions_raise(world: TabletopWorld, kwargs: dict) -> None:
+    _one_block(world)
+    args = {"position": [-0.1, 0.0, 0.2], "quat_xyzw": TOP_DOWN_QUAT, "gripper": None,
+            "speed_scale": 1.0} | kwargs
+    with pytest.raises(InvalidActionError):
+        world.step(args["position"], args["quat_xyzw"], args["gripper"], args["speed_scale"])
+    with pytest.raises(InvalidActionError):
+        world.move_to_pose(**args)
+
+
+def test_unstable_simulation_raises_and_can_be_reset(world: TabletopWorld) -> None:
+    _one_block(world)
+    world.data.qvel[:] = np.nan
+    with pytest.raises(SimulationUnstableError):
+        world.step([-0.1, 0.0, 0.3], TOP_DOWN_QUAT)
+    with pytest.raises(SimulationUnstableError):
+        world.advance(1)
+    _one_block(world)
+    world.step([-0.1, 0.0, 0.3], TOP_DOWN_QUAT)
+    assert np.all(np.isfinite(world.data.qpos))

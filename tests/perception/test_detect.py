@@ -1,0 +1,81 @@
+"""detect() from the fused point cloud agrees with the simulator; views agree with each other."""
+
+import numpy as np
+import pytest
+
+from voxposer.envs import COLORS, SceneLayout, TabletopWorld
+from voxposer.errors import UnknownObjectError
+
+
+@pytest.fixture(scope="module")
+def all_blocks(world: TabletopWorld) -> TabletopWorld:
+    layout = SceneLayout(blocks=tuple(COLORS)[:8], extra_blocks=(0, 0), extra_lines=(2, 2))
+    world.reset(np.random.default_rng(4), layout)
+    return world
+
+
+def test_detect_centres_match_bodies(all_blocks: TabletopWorld) -> None:
+    for name in all_blocks.object_names:
+        if name.endswith(" block"):
+            found = all_blocks.detect(name)
+            np.testing.assert_allclose(found.position, all_blocks.object_position(name), atol=0.01)
+
+
+def test_detected_object_reads_like_a_dict(all_blocks: TabletopWorld) -> None:
+    obj = all_blocks.detect("The Blue Block")
+    assert obj["position"] is obj.position
+    assert obj["occupancy"].shape == all_blocks.grid.shape and obj["occupancy"].any()
+    assert obj["aabb"].shape == (2, 3) and obj["points"].shape[1] == 3
+    assert np.linalg.norm(obj["normal"]) == pytest.approx(1.0)
+    with pytest.raises(KeyError):
+        obj["colour"]
+
+
+def test_parts_are_detected(all_blocks: TabletopWorld) -> None:
+    handle = all_blocks.detect("top drawer handle")
+    drawer = all_blocks.detect("top drawer")
+    cabinet = all_blocks.detect("cabinet")
+    assert len(handle.points) < len(drawer.points) < len(cabinet.points)
+    np.testing.assert_allclose(handle.position, all_blocks.object_position("top drawer handle"),
+                               atol=0.02)
+    assert handle.normal[1] < -0.5  # the handle faces −y, out of the cabinet
+
+
+def test_views_agree_on_a_block(all_blocks: TabletopWorld) -> None:
+    cloud = all_blocks.observe().cloud
+    label = all_blocks.registry.label("blue block")
+    centres = []
+    for cam in range(4):
+        pts = cloud.points[(cloud.labels == label) & (cloud.camera == cam)]
+        if len(pts) == 0:
+            continue  # occluded from this camera
+        top = pts[pts[:, 2] > pts[:, 2].max() - 0.002]  # the top face
+        if len(top) > 20:
+            centres.append(top.mean(axis=0))
+    assert len(centres) >= 2
+    centres = np.array(centres)
+    assert np.max(np.linalg.norm(centres - centres.mean(axis=0), axis=1)) < 0.01
+
+
+def test_observation_contents(all_blocks: TabletopWorld) -> None:
+    obs = all_blocks.observe()
+    assert len(obs.cameras) == 4
+    for frame in obs.cameras:
+        h, w = frame.depth.shape
+        assert frame.rgb.shape == (h, w, 3) and frame.segmentation.shape == (h, w, 2)
+        assert frame.intrinsics.shape == (3, 3) and frame.extrinsics.shape == (4, 4)
+        # The camera looks at the workspace centre along its +z axis.
+        view = frame.extrinsics[:3, 2]
+        to_target = np.array(all_blocks.config.cameras.target) - frame.extrinsics[:3, 3]
+        assert np.dot(view, to_target / np.linalg.norm(to_target)) > 0.999
+        assert np.isfinite(frame.depth).any()
+    assert all_blocks.grid.contains(obs.cloud.points).all()
+    assert obs.cloud.normals.shape == obs.cloud.points.shape
+
+
+def test_unknown_and_absent_names_raise(all_blocks: TabletopWorld) -> None:
+    with pytest.raises(UnknownObjectError, match="blue block"):
+        all_blocks.detect("unicorn")
+    absent = next(c for c in COLORS if f"{c} block" not in all_blocks.object_names)
+    with pytest.raises(UnknownObjectError):
+        all_blocks.detect(f"{absent} block")
