@@ -36,7 +36,8 @@ class CostMapConfig:
         target_threshold: voxels with affordance >= threshold * max are targets (1 = the maxima).
         target_clear_radius_cm: obstacles within this radius of a target are cleared [cm].
         entity_clear_radius_cm: obstacles within this radius of the entity's start are cleared [cm].
-        obstacle_margin_cm: obstacles are grown by this margin [cm] (0 = points as observed).
+        obstacle_margin_cm: obstacles are grown by this margin [cm] on the planning grid (0 =
+            points as observed; pooling onto the planning grid already rounds them outwards).
         downsample: fine voxels per coarse planning voxel along each axis (1 = full resolution).
         obstacles_as_avoidance: also add scene obstacles to the avoidance map before smoothing,
             as the paper's release did (its greedy planner had no hard obstacles).
@@ -98,7 +99,8 @@ class CostMap:
         target_distance: distance to the nearest target [coarse voxels], shape ``grid.shape``.
         target_mask: coarse target voxels, shape ``grid.shape``.
         obstacles: coarse obstacle voxels after clearing, shape ``grid.shape``.
-        fine_obstacles: fine obstacle voxels after clearing, shape ``fine_grid.shape``.
+        fine_obstacles: fine obstacle voxels after clearing (without the margin), shape
+            ``fine_grid.shape``.
         fine_targets: fine target voxel indices, shape (T, 3).
         start: the entity's start position [m], shape (3,).
     """
@@ -286,6 +288,12 @@ def compose_cost_map(
         cost += cfg.avoidance_weight * avoidance_cost
 
     obstacles = pool_max(fine_obstacles, f)
+    if cfg.obstacle_margin_cm > 0:  # grown on the planning grid (cheap), then cleared again
+        radius = cfg.obstacle_margin_cm / 100.0 / coarse.resolution
+        obstacles = ndimage.binary_dilation(obstacles, structure=_ball(radius))
+        _clear_sphere(obstacles, coarse, start_m, cfg.entity_clear_radius_cm)
+        for target in _target_representatives(grid, fine_targets):
+            _clear_sphere(obstacles, coarse, target, cfg.target_clear_radius_cm)
     obstacles &= ~target_mask
     return CostMap(
         grid=coarse,
@@ -311,7 +319,7 @@ def _scene_obstacles(
     fine_targets: NDArray[np.int64],
     cfg: CostMapConfig,
 ) -> NDArray[np.bool_]:
-    """Scene occupancy minus the entity, grown by the margin, cleared at both ends."""
+    """Scene occupancy minus the entity, cleared around the start and the targets."""
     obstacles = np.zeros(grid.shape, dtype=bool)
     if occupancy is None:
         return obstacles
@@ -326,9 +334,6 @@ def _scene_obstacles(
                 f"entity_occupancy has shape {ent.shape}; expected {grid.shape}"
             )
         obstacles &= ~ent
-    if cfg.obstacle_margin_cm > 0:
-        radius = cfg.obstacle_margin_cm / 100.0 / grid.resolution
-        obstacles = ndimage.binary_dilation(obstacles, structure=_ball(radius))
     _clear_sphere(obstacles, grid, start, cfg.entity_clear_radius_cm)
     for target in _target_representatives(grid, fine_targets):
         _clear_sphere(obstacles, grid, target, cfg.target_clear_radius_cm)

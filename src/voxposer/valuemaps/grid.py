@@ -238,12 +238,12 @@ class VoxelGrid:
         Points outside the workspace are dropped (a point cloud is cropped, not clipped).
         """
         p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        p = p[np.all(np.isfinite(p), axis=1)]
-        p = p[self.contains(p)]
+        shape = np.asarray(self.shape)
+        scaled = (p - self.bounds_min) / self.resolution  # NaN stays NaN and fails the test below
+        inside = np.all((scaled >= 0) & (scaled <= shape), axis=1)
+        idx = np.minimum(scaled[inside].astype(np.int64), shape - 1)
         occ = np.zeros(self.shape, dtype=bool)
-        if len(p):
-            idx = self.world_to_voxel(p)
-            occ[idx[:, 0], idx[:, 1], idx[:, 2]] = True
+        occ.reshape(-1)[np.ravel_multi_index(idx.T, self.shape)] = True
         return occ
 
     def coarsen(self, factor: int) -> VoxelGrid:
