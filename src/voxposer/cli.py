@@ -1,6 +1,9 @@
 """Command line: ``voxposer <command>``.
 
 Commands:
+    run         carry out an instruction in the simulated tabletop: LLM programs compose value
+                maps, the planner and closed-loop executor move the robot; writes an MP4, HTML
+                value maps, the LMP transcript and summary.json.
     plan-demo   plan through the built-in synthetic scene (global planner vs the paper's greedy
                 one) and write an HTML picture of the cost map and both paths.
     render      render the four camera views of a seeded tabletop scene to one PNG.
@@ -83,8 +86,10 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=int, default=0, help="seed for the random obstacle blobs")
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
     demo.set_defaults(func=_plan_demo)
+    from voxposer import run_cmd
     from voxposer.envs import render_cmd
 
+    run_cmd.add_parser(sub)
     render_cmd.add_parser(sub)
     return parser
 

@@ -158,3 +158,12 @@ class LMPFailedError(ProgramError):
         last = attempts[-1]["error"] if attempts else "no attempt"
         super().__init__(f"{lmp}({query!r}) failed after {len(attempts)} attempt(s); last error: "
                          f"{last}")
+
+
+class ExecutionFailedError(VoxPoserError):
+    """Closed-loop execution of a sub-task ended without reaching its target (says why)."""
+
+    def __init__(self, subtask: str, reason: str, message: str) -> None:
+        self.subtask = subtask
+        self.reason = reason
+        super().__init__(f"sub-task {subtask!r} failed ({reason}): {message}")

@@ -25,15 +25,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.control.config import ExecutorConfig
+from voxposer.control.pushing_loop import run_object
 from voxposer.control.scene_occupancy import is_end_effector, scene_occupancy
-from voxposer.errors import PlanningError, UnreachablePoseError, VoxPoserError
+from voxposer.errors import PlanningError, VoxPoserError
 from voxposer.planning.planner import PathPlanner, Plan
-from voxposer.planning.pushing import push_waypoints, random_shooting
-from voxposer.valuemaps.maps import pointat2quat
 
 log = logging.getLogger(__name__)
 
-StopReason = Literal["reached", "stalled", "timeout", "unreachable", "planning_failed"]
+StopReason = Literal["reached", "end_of_travel", "stalled", "timeout", "planning_failed"]
 MapSource = Callable[[], NDArray[Any]] | NDArray[Any] | None
 
 
@@ -76,7 +75,8 @@ class ExecutionResult:
         trace: end-effector positions after every control period [m], shape (T, 3), and
             ``trace_time``, shape (T,), their simulation times [s] (for speed and clearance
             checks over the whole motion).
-        last_plan: the last plan (for pictures).
+        first_plan: the first plan, from where the entity started (for pictures).
+        last_plan: the last plan.
         timings_ms: per replan, wall time of observe, maps, plan [ms].
     """
 
@@ -91,6 +91,7 @@ class ExecutionResult:
     entity_path: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
     trace: list[NDArray[np.float64]] = field(default_factory=list)
     trace_time: list[float] = field(default_factory=list)
+    first_plan: Plan | None = None
     last_plan: Plan | None = None
     timings_ms: list[dict[str, float]] = field(default_factory=list)
 
@@ -190,13 +191,14 @@ class ClosedLoopExecutor:
                     current_gripper=world.get_gripper_state(),
                 )
             except PlanningError as err:
-                return self._finish(result, "planning_failed", str(err), path, t_wall, t_sim0)
+                return self.finish(result, "planning_failed", str(err), path, t_wall, t_sim0)
             t3 = time.perf_counter()
             result.timings_ms.append(
                 {"observe": (t1 - t0) * 1e3, "maps": (t2 - t1) * 1e3, "plan": (t3 - t2) * 1e3}
             )
             result.replans += 1
             result.last_plan = plan
+            result.first_plan = result.first_plan or plan
             path.append(ee_pos)
             dist = float(np.linalg.norm(ee_pos - plan.target))
             result.final_distance = dist
@@ -204,7 +206,7 @@ class ClosedLoopExecutor:
                 self.on_replan(result, plan)
             if dist <= cfg.reach_tolerance_m:
                 self._finish_gripper(plan)
-                return self._finish(
+                return self.finish(
                     result,
                     "reached",
                     f"{name} reached the target ({dist * 100:.1f} cm away)",
@@ -217,7 +219,7 @@ class ClosedLoopExecutor:
             else:
                 since_best += 1
                 if since_best >= cfg.stall_replans:
-                    return self._finish(
+                    return self.finish(
                         result,
                         "stalled",
                         f"{name} stopped making progress {dist * 100:.1f} cm from "
@@ -227,7 +229,7 @@ class ClosedLoopExecutor:
                         t_sim0,
                     )
             if self._sim_time() - t_sim0 >= cfg.max_time_s:
-                return self._finish(
+                return self.finish(
                     result,
                     "timeout",
                     f"time limit {cfg.max_time_s:.0f} s reached "
@@ -272,126 +274,17 @@ class ClosedLoopExecutor:
 
     # ----------------------------------------------------------------- objects
     def _run_object(self, movable: Any, name: str, maps: dict[str, MapSource]) -> ExecutionResult:
-        cfg = self.config
-        world = self.world
-        result = ExecutionResult(False, "timeout", "", name)
-        path: list[NDArray[np.float64]] = []
-        t_wall, t_sim0 = time.perf_counter(), self._sim_time()
-        axis_of = getattr(world, "sliding_axis", None)
-        axis = axis_of(name) if callable(axis_of) else None
-        best, since_best = float("inf"), 0
-        for _ in range(cfg.max_pushes):
-            t0 = time.perf_counter()
-            obs = world.observe()
-            entity = _evaluate(movable)
-            t1 = time.perf_counter()
-            values = {k: _evaluate(v) for k, v in maps.items()}
-            t2 = time.perf_counter()
-            centre = np.asarray(entity["position"], dtype=np.float64)
-            try:
-                plan = self.object_planner.plan(
-                    values["affordance_map"],
-                    centre,
-                    avoidance_map=values["avoidance_map"],
-                    occupancy=scene_occupancy(
-                        obs, world.grid, entity=name, holding=False, ignore_table=True
-                    ),
-                    entity_occupancy=entity["occupancy"],
-                )
-            except PlanningError as err:
-                return self._finish(result, "planning_failed", str(err), path, t_wall, t_sim0)
-            target = plan.target
-            if axis is not None:  # parts slide along an axis: only that component matters
-                dist = float(abs((target - centre) @ axis))
-            else:
-                dist = float(np.linalg.norm((target - centre)[:2]))
-            t3 = time.perf_counter()
-            result.timings_ms.append(
-                {"observe": (t1 - t0) * 1e3, "maps": (t2 - t1) * 1e3, "plan": (t3 - t2) * 1e3}
-            )
-            result.replans += 1
-            result.last_plan = plan
-            result.final_distance = dist
-            path.append(centre)
-            if self.on_replan is not None:
-                self.on_replan(result, plan)
-            if dist <= cfg.reach_tolerance_m:
-                return self._finish(
-                    result,
-                    "reached",
-                    f"{name} reached the target ({dist * 100:.1f} cm away)",
-                    path,
-                    t_wall,
-                    t_sim0,
-                )
-            if dist < best - cfg.min_progress_m:
-                best, since_best = dist, 0
-            else:
-                since_best += 1
-                if since_best >= 3:
-                    return self._finish(
-                        result,
-                        "stalled",
-                        f"pushing {name} made no progress; {dist * 100:.1f} cm from the target",
-                        path,
-                        t_wall,
-                        t_sim0,
-                    )
-            path_xy = plan.trajectory.positions
-            action = random_shooting(
-                entity["points"],
-                path_xy,
-                self.rng,
-                cost_map=plan.cost_map,
-                axis=axis,
-                config=cfg.push,
-            )
-            if axis is not None:  # a part: push at its centre height, no farther than needed
-                contact = np.array([*action.contact[:2], centre[2]])
-                action = action._replace(
-                    contact=contact, distance=min(action.distance, dist + 0.005)
-                )
-            try:
-                self._push(action, sideways=axis is not None)
-            except UnreachablePoseError as err:
-                log.info("push unreachable (%s); sampling another", err)
-                since_best += 1
-            if self._sim_time() - t_sim0 >= cfg.max_time_s:
-                return self._finish(
-                    result,
-                    "timeout",
-                    f"time limit {cfg.max_time_s:.0f} s reached "
-                    f"{dist * 100:.1f} cm from the target",
-                    path,
-                    t_wall,
-                    t_sim0,
-                )
-        return self._finish(
-            result,
-            "stalled",
-            f"{cfg.max_pushes} pushes did not bring {name} to the target",
-            path,
-            t_wall,
-            t_sim0,
-        )
-
-    def _push(self, action: Any, sideways: bool) -> None:
-        """The pushing primitive: above → behind the contact → through → back → up.
-
-        Objects are pushed with the hand pointing down; parts (drawers) with the hand pointing
-        along the push, so the forearm stays clear of the cabinet.
-        """
-        quat = pointat2quat(action.direction if sideways else [0.0, 0.0, -1.0])
-        self.world.close_gripper()  # type: ignore[attr-defined]
-        for k, point in enumerate(push_waypoints(action)):
-            speed = 0.5 if k == 2 else 1.0
-            self.world.move_to_pose(point, quat, speed_scale=speed)
+        return run_object(self, movable, name, maps)
 
     # ------------------------------------------------------------------ common
+    def sim_time(self) -> float:
+        """The world's simulation time [s] (0 if it has none)."""
+        return self._sim_time()
+
     def _sim_time(self) -> float:
         return float(getattr(getattr(self.world, "data", None), "time", 0.0))
 
-    def _finish(
+    def finish(
         self,
         result: ExecutionResult,
         reason: StopReason,
@@ -400,7 +293,7 @@ class ClosedLoopExecutor:
         t_wall: float,
         t_sim0: float,
     ) -> ExecutionResult:
-        result.success = reason == "reached"
+        result.success = reason in ("reached", "end_of_travel")
         result.reason = reason
         result.message = message
         result.entity_path = np.asarray(path).reshape(-1, 3)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import mujoco
@@ -109,6 +110,8 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
         self._force: tuple[int, NDArray[np.float64], int] | None = None
         self.placement: Placement | None = None
         self._present: tuple[str, ...] = ()
+        #: called as ``fn(world)`` after every :meth:`advance` (e.g. a video recorder)
+        self.step_callbacks: list[Callable[[TabletopWorld], None]] = []
 
     # ------------------------------------------------------------------ reset
     def reset(self, rng: np.random.Generator, layout: SceneLayout | None = None) -> Placement:
@@ -199,6 +202,8 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
                 "call reset() before stepping again"
             )
         self._obs = None
+        for callback in self.step_callbacks:
+            callback(self)
 
     def _bad_count(self) -> int:
         w = self.data.warning

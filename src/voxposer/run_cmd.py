@@ -1,0 +1,286 @@
+"""``voxposer run "<instruction>"``: the main job, in simulation, with live progress.
+
+Builds the seeded MuJoCo tabletop, runs planner → composer → value-map LMPs → closed-loop
+``execute`` with the configured language model (default: the bundled local model), shows the
+current sub-task, LLM calls, replanning rate and distance to the target, and writes to the output
+folder: ``rollout.mp4`` (one camera), ``subtask_NN.html`` (composed maps and planned path per
+sub-task), ``transcript.jsonl`` (prompts, responses, code, errors) and ``summary.json``. Exit
+status 0 only when every sub-task reached its target.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import logging
+import re
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from rich.console import Console
+from rich.live import Live
+from rich.table import Table
+
+from voxposer.errors import VoxPoserError
+
+log = logging.getLogger(__name__)
+console = Console(stderr=True)
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Register ``run`` on an argparse sub-parsers object."""
+    p: argparse.ArgumentParser = subparsers.add_parser(
+        "run", help="carry out an instruction in the simulated tabletop (LLM → value maps → robot)"
+    )
+    p.add_argument("instruction", help='e.g. "push the blue block to the back left corner"')
+    p.add_argument("--seed", type=int, default=0, help="scene seed")
+    p.add_argument(
+        "--out", type=Path, default=None, help="output folder (default runs/<time>-<words>)"
+    )
+    p.add_argument(
+        "--llm",
+        choices=("default", "llama_cpp", "openai", "replay"),
+        default=None,
+        help="LLM backend (default: VOXPOSER_LLM_BACKEND or the bundled local model)",
+    )
+    p.add_argument("--model", default=None, help="model name (openai) or GGUF path (llama_cpp)")
+    p.add_argument("--base-url", default=None, help="OpenAI-compatible endpoint URL")
+    p.add_argument(
+        "--recordings", type=Path, default=None, help="recorded responses (--llm replay)"
+    )
+    p.add_argument(
+        "--disturb",
+        action="store_true",
+        help="apply the paper's disturbances during the rollout (robot push, object "
+        "displacement, reverting progress)",
+    )
+    p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
+    p.add_argument("--no-video", action="store_true", help="skip the MP4")
+    p.set_defaults(func=run)
+    return p
+
+
+def _out_dir(args: argparse.Namespace) -> Path:
+    if args.out is not None:
+        return Path(args.out)
+    words = "-".join(re.findall(r"[a-z0-9]+", args.instruction.lower())[:6]) or "run"
+    return Path("runs") / f"{time.strftime('%Y%m%d-%H%M%S')}-{words}"
+
+
+def _backend(args: argparse.Namespace) -> Any:
+    from voxposer.lmp.backends import LLMConfig, make_backend
+
+    config = LLMConfig.from_env()
+    overrides = {
+        "backend": args.llm,
+        "model": args.model,
+        "base_url": args.base_url,
+        "recordings_path": args.recordings,
+    }
+    config = dataclasses.replace(config, **{k: v for k, v in overrides.items() if v is not None})
+    return make_backend(config)
+
+
+class _Progress:
+    """The live terminal panel and the counters behind it."""
+
+    def __init__(self, instruction: str) -> None:
+        self.instruction = instruction
+        self.subtask = "planning"
+        self.llm = "idle"
+        self.llm_calls = 0
+        self.replans = 0
+        self.hz = 0.0
+        self.distance = float("nan")
+        self.started = time.perf_counter()
+
+    def __rich__(self) -> Table:
+        table = Table.grid(padding=(0, 2))
+        table.add_column(style="bold cyan")
+        table.add_column()
+        table.add_row("instruction", self.instruction)
+        table.add_row("sub-task", self.subtask)
+        table.add_row("LLM", f"{self.llm} ({self.llm_calls} calls)")
+        table.add_row("replanning", f"{self.replans} plans, {self.hz:.1f} Hz")
+        table.add_row(
+            "to target", "—" if np.isnan(self.distance) else f"{self.distance * 100:.1f} cm"
+        )
+        table.add_row("elapsed", f"{time.perf_counter() - self.started:.0f} s")
+        return table
+
+
+def _progress_backend(backend: Any, progress: _Progress) -> Any:
+    """Wrap ``backend`` so the panel shows each LLM call while it runs."""
+    from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
+
+    class ProgressBackend(LLMBackend):
+        name = backend.name
+
+        @property
+        def model(self) -> str:
+            return str(backend.model)
+
+        def complete(self, request: LLMRequest) -> LLMResponse:
+            progress.llm = f"asking {request.prefix_id or 'model'}…"
+            try:
+                return backend.complete(request)
+            finally:
+                progress.llm_calls += 1
+                progress.llm = "idle"
+
+        def close(self) -> None:
+            backend.close()
+
+    return ProgressBackend()
+
+
+class _Disturber:
+    """Applies the paper's three disturbance kinds at fixed replanning steps (``--disturb``)."""
+
+    def __init__(self, world: Any, rng: np.random.Generator) -> None:
+        self.world, self.rng = world, rng
+        self.count = 0
+        self.applied: list[dict[str, Any]] = []
+
+    def __call__(self, result: Any, plan: Any) -> None:
+        self.count += 1
+        kind = {4: "push_robot", 8: "displace_object", 12: "revert_progress"}.get(self.count)
+        if kind is None:
+            return
+        if kind == "push_robot":
+            record = self.world.push_robot(self.rng)
+        elif kind == "displace_object":
+            blocks = [n for n in self.world.object_names if n.endswith("block")]
+            name = result.entity if result.entity in blocks else (blocks[0] if blocks else None)
+            if name is None:
+                return
+            record = self.world.displace_object(self.rng, name)
+        else:
+            if "drawer" not in result.entity:
+                return  # only when the entity is an object part (paper App. A.4)
+            record = self.world.revert_progress(self.rng, result.entity.split()[0])
+        self.applied.append({"kind": kind, "at_replan": self.count, "record": repr(record)})
+
+
+def scene_layout(instruction: str) -> Any:
+    """A default scene for an instruction: every block and line it names, plus distractors."""
+    from voxposer.envs import COLORS
+    from voxposer.envs.layout import SceneLayout
+
+    text = instruction.lower().replace("grey", "gray")
+    named = {
+        kind: tuple(c for c in COLORS if re.search(rf"\b{c}\s+{kind}", text))
+        for kind in ("block", "line")
+    }
+    return SceneLayout(
+        blocks=named["block"], lines=named["line"], extra_blocks=(3, 5), extra_lines=(2, 3)
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Carry out ``args.instruction``; returns the exit status (0 only on success)."""
+    out = _out_dir(args)
+    out.mkdir(parents=True, exist_ok=True)
+    summary: dict[str, Any] = {
+        "instruction": args.instruction,
+        "seed": args.seed,
+        "success": False,
+        "reason": "",
+        "message": "",
+        "subtasks": [],
+        "llm_calls": 0,
+        "disturbances": [],
+    }
+    started = time.perf_counter()
+    try:
+        _rollout(args, out, summary)
+    except VoxPoserError as err:  # setup failures (model, recordings, scene) end here too
+        summary.update(success=False, reason=type(err).__name__, message=str(err))
+    summary["timings_s"] = {
+        "total": round(time.perf_counter() - started, 2),
+        **summary.get("timings_s", {}),
+    }
+    summary["outputs"] = sorted(p.name for p in out.iterdir() if p.name != "summary.json")
+    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+    style = "bold green" if summary["success"] else "bold red"
+    console.print(
+        f"[{style}]{'success' if summary['success'] else 'failure'}[/]: {summary['message']}"
+    )
+    console.print(f"outputs in [bold]{out}[/bold]")
+    return 0 if summary["success"] else 1
+
+
+def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> None:
+    """Build the world and the LMPs, run the instruction, fill ``summary`` as it goes."""
+    from voxposer.control import ExecutorConfig
+    from voxposer.control.recording import VideoRecorder
+    from voxposer.control.world_executor import WorldExecutor
+    from voxposer.envs import TabletopWorld
+    from voxposer.lmp.runtime import LMPRuntime
+    from voxposer.lmp.scene import WorldScene
+    from voxposer.lmp.transcript import Transcript
+
+    progress = _Progress(args.instruction)
+    rng = np.random.default_rng(args.seed)
+    world = TabletopWorld()
+    world.reset(rng, scene_layout(args.instruction))
+    backend = _progress_backend(_backend(args), progress)
+    summary["model"] = backend.model
+    executor = WorldExecutor(world, rng, ExecutorConfig(max_time_s=args.max_time), picture_dir=out)
+    disturber = _Disturber(world, rng) if args.disturb else None
+
+    def on_replan(result: Any, plan: Any) -> None:
+        progress.replans += 1
+        progress.hz = result.replan_hz
+        progress.distance = result.final_distance
+        if disturber is not None:
+            disturber(result, plan)
+
+    def on_subtask(subtask: str) -> None:
+        progress.subtask = subtask
+
+    executor.on_replan = on_replan
+    executor.on_subtask = on_subtask
+    transcript = Transcript(out / "transcript.jsonl")
+    runtime = LMPRuntime(WorldScene(world), backend, executor, transcript=transcript)
+    recorder = None if args.no_video else VideoRecorder(world, out / "rollout.mp4")
+    try:
+        with Live(progress, console=console, refresh_per_second=4, transient=False):
+            runtime.run(args.instruction)
+        console.print()
+        done = bool(executor.records)
+        summary.update(
+            success=done,
+            reason="reached" if done else "nothing_executed",
+            message="every sub-task reached its target"
+            if done
+            else "the programs never called execute()",
+        )
+    finally:
+        if recorder is not None:
+            recorder.close()
+        backend.close()
+        summary["subtasks"] = [
+            {
+                "subtask": r.subtask,
+                "success": r.result.success,
+                "reason": r.result.reason,
+                "message": r.result.message,
+                "replans": r.result.replans,
+                "replan_hz": round(r.result.replan_hz, 2),
+                "sim_time_s": round(r.result.sim_time, 2),
+                "final_distance_m": round(r.result.final_distance, 4),
+                "picture": r.picture.name if r.picture else None,
+            }
+            for r in executor.records
+        ]
+        summary["llm_calls"] = runtime.llm_calls
+        summary["timings_s"] = {
+            "llm": round(
+                sum(e.get("seconds", 0.0) for e in transcript.events if e["event"] == "llm_call"), 2
+            )
+        }
+        summary["disturbances"] = disturber.applied if disturber else []
