@@ -42,7 +42,7 @@ class World(Protocol):
     grid: Any
     config: Any
 
-    def observe(self) -> Any: ...
+    def observe(self, *, rgb: bool = True) -> Any: ...
     def detect(self, name: str) -> Any: ...
     def step(
         self, position: Any, quat_xyzw: Any, gripper: float | None = None, speed_scale: float = 1.0
@@ -171,7 +171,7 @@ class ClosedLoopExecutor:
         best, since_best = float("inf"), 0
         while True:
             t0 = time.perf_counter()
-            obs = world.observe()
+            obs = world.observe(rgb=False)
             t1 = time.perf_counter()
             values = {k: _evaluate(v) for k, v in maps.items()}
             t2 = time.perf_counter()

@@ -53,7 +53,7 @@ def run_object(
     stuck = 0
     for _ in range(cfg.max_pushes):
         t0 = time.perf_counter()
-        obs = world.observe()
+        obs = world.observe(rgb=False)
         entity = _evaluate(movable)
         t1 = time.perf_counter()
         values = {k: _evaluate(v) for k, v in maps.items()}

@@ -33,7 +33,7 @@ class SensingMixin:
     registry: ObjectRegistry
     _renderer: CameraRenderer | None
     _obs: Observation | None
-    _obs_key: tuple[float, int, int] | None
+    _obs_key: tuple[float, int, int, bool] | None
     _present: tuple[str, ...]
     _gripper: float
     _ee_site: int
@@ -68,16 +68,24 @@ class SensingMixin:
             height or cams.height, segmentation=False)
         return frame.rgb
 
-    def observe(self, width: int | None = None, height: int | None = None) -> Observation:
+    def observe(self, width: int | None = None, height: int | None = None, *,
+                rgb: bool = True) -> Observation:
         """All camera views (RGB, depth [m], intrinsics, extrinsics, object ids) and the fused,
-        workspace-cropped, labelled point cloud with normals. Cached until the state changes."""
+        workspace-cropped, labelled point cloud with normals. Cached until the state changes.
+
+        ``rgb=False`` skips the colour pass (images and point colours are black): enough for
+        planning and ``detect``, about half the rendering time. An RGB observation also serves
+        later ``rgb=False`` requests at the same instant.
+        """
         cams = self.config.cameras
         w, h = width or cams.width, height or cams.height
         key = (float(self.data.time), w, h)
-        if self._obs is not None and self._obs_key == key:
+        if self._obs is not None and self._obs_key is not None and self._obs_key[:3] == key and (
+                self._obs_key[3] or not rgb):
             return self._obs
         renderer = self._camera_renderer()
-        frames = tuple(renderer.render(self.data, f"{name}_camera", w, h) for name in cams.names)
+        frames = tuple(renderer.render(self.data, f"{name}_camera", w, h, colour=rgb)
+                       for name in cams.names)
         pos, quat = self.get_ee_pose()
         self._obs = Observation(
             time=float(self.data.time),
@@ -88,7 +96,7 @@ class SensingMixin:
             gripper=self._gripper,
             label_names=tuple(o.name for o in OBJECTS),
         )
-        self._obs_key = key
+        self._obs_key = (*key, rgb)
         return self._obs
 
     def detect(self, name: str) -> DetectedObject:
@@ -99,7 +107,7 @@ class SensingMixin:
             ObjectNotVisibleError: the object is present but no camera sees it.
         """
         obj = self.registry.resolve(name, self._present)
-        cloud = self.observe().cloud
+        cloud = self.observe(rgb=False).cloud
         return detect_in_cloud(cloud, self.registry.family_labels(obj.name), obj.name, self.grid)
 
     def close(self) -> None:

@@ -103,7 +103,7 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
         self._ee_site = m.site(EE_SITE).id
         self._renderer = None
         self._obs = None
-        self._obs_key: tuple[float, int, int] | None = None
+        self._obs_key: tuple[float, int, int, bool] | None = None
         self._rng = np.random.default_rng(0)
         self._gripper = 0.0
         self._unstable = False
