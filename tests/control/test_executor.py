@@ -10,10 +10,6 @@ from voxposer.errors import PlanningError
 from voxposer.valuemaps import ValueMapAPI
 
 
-@pytest.fixture(scope="module")
-def world() -> TabletopWorld:
-    return TabletopWorld()
-
 
 def _layout(**poses: tuple[float, float]) -> SceneLayout:
     blocks = tuple(name.removesuffix("_block") for name in poses)

@@ -91,6 +91,9 @@ class ExecutionResult:
     entity_path: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
     trace: list[NDArray[np.float64]] = field(default_factory=list)
     trace_time: list[float] = field(default_factory=list)
+    started_wall: float = field(default_factory=time.perf_counter, repr=False)
+    started_sim: float = field(default=0.0, repr=False)
+    _path: list[NDArray[np.float64]] = field(default_factory=list, repr=False)
     first_plan: Plan | None = None
     last_plan: Plan | None = None
     timings_ms: list[dict[str, float]] = field(default_factory=list)
@@ -160,14 +163,10 @@ class ClosedLoopExecutor:
 
     # ----------------------------------------------------------- end effector
     def _run_end_effector(self, name: str, maps: dict[str, MapSource]) -> ExecutionResult:
-        cfg = self.config
-        world = self.world
-        period = 1.0 / cfg.replan_hz
+        cfg, world = self.config, self.world
         control_dt = float(world.config.controller.control_dt)
-        steps_per_replan = max(1, round(period / control_dt))
-        result = ExecutionResult(False, "timeout", "", name)
-        path: list[NDArray[np.float64]] = []
-        t_wall, t_sim0 = time.perf_counter(), self._sim_time()
+        steps_per_replan = max(1, round(1.0 / cfg.replan_hz / control_dt))
+        result = self.start(name)
         best, since_best = float("inf"), 0
         while True:
             t0 = time.perf_counter()
@@ -176,6 +175,7 @@ class ClosedLoopExecutor:
             values = {k: _evaluate(v) for k, v in maps.items()}
             t2 = time.perf_counter()
             ee_pos, ee_quat = world.get_ee_pose()
+            holding = world.get_gripper_state() >= 0.5
             try:
                 plan = self.ee_planner.plan(
                     values["affordance_map"],
@@ -184,59 +184,35 @@ class ClosedLoopExecutor:
                     rotation_map=values["rotation_map"],
                     velocity_map=values["velocity_map"],
                     gripper_map=values["gripper_map"],
-                    occupancy=scene_occupancy(
-                        obs, world.grid, entity=name, holding=world.get_gripper_state() >= 0.5
-                    ),
+                    occupancy=scene_occupancy(obs, world.grid, entity=name, holding=holding),
                     current_quat=ee_quat,
                     current_gripper=world.get_gripper_state(),
                 )
             except PlanningError as err:
-                return self.finish(result, "planning_failed", str(err), path, t_wall, t_sim0)
-            t3 = time.perf_counter()
-            result.timings_ms.append(
-                {"observe": (t1 - t0) * 1e3, "maps": (t2 - t1) * 1e3, "plan": (t3 - t2) * 1e3}
-            )
-            result.replans += 1
-            result.last_plan = plan
-            result.first_plan = result.first_plan or plan
-            path.append(ee_pos)
+                return self.finish(result, "planning_failed", str(err))
             dist = float(np.linalg.norm(ee_pos - plan.target))
-            result.final_distance = dist
-            if self.on_replan is not None:
-                self.on_replan(result, plan)
+            self.record(result, plan, ee_pos, dist, (t0, t1, t2))
             if dist <= cfg.reach_tolerance_m:
                 self._finish_gripper(plan)
                 return self.finish(
-                    result,
-                    "reached",
-                    f"{name} reached the target ({dist * 100:.1f} cm away)",
-                    path,
-                    t_wall,
-                    t_sim0,
+                    result, "reached", f"{name} reached the target ({dist * 100:.1f} cm away)"
                 )
-            if dist < best - cfg.min_progress_m:
-                best, since_best = dist, 0
-            else:
-                since_best += 1
-                if since_best >= cfg.stall_replans:
-                    return self.finish(
-                        result,
-                        "stalled",
-                        f"{name} stopped making progress {dist * 100:.1f} cm from "
-                        "the target (blocked or unreachable?)",
-                        path,
-                        t_wall,
-                        t_sim0,
-                    )
-            if self._sim_time() - t_sim0 >= cfg.max_time_s:
+            best, since_best = (
+                (dist, 0) if dist < best - cfg.min_progress_m else (best, since_best + 1)
+            )
+            if since_best >= cfg.stall_replans:
+                return self.finish(
+                    result,
+                    "stalled",
+                    f"{name} stopped making progress "
+                    f"{dist * 100:.1f} cm from the target (blocked or unreachable?)",
+                )
+            if self.timed_out(result):
                 return self.finish(
                     result,
                     "timeout",
                     f"time limit {cfg.max_time_s:.0f} s reached "
                     f"{dist * 100:.1f} cm from the target",
-                    path,
-                    t_wall,
-                    t_sim0,
                 )
             self._follow(plan, steps_per_replan, result)
 
@@ -277,28 +253,51 @@ class ClosedLoopExecutor:
         return run_object(self, movable, name, maps)
 
     # ------------------------------------------------------------------ common
-    def sim_time(self) -> float:
-        """The world's simulation time [s] (0 if it has none)."""
-        return self._sim_time()
-
     def _sim_time(self) -> float:
         return float(getattr(getattr(self.world, "data", None), "time", 0.0))
 
-    def finish(
+    def start(self, entity: str) -> ExecutionResult:
+        """A fresh result for one ``execute`` call, its clocks started."""
+        return ExecutionResult(False, "timeout", "", entity, started_sim=self._sim_time())
+
+    def record(
         self,
         result: ExecutionResult,
-        reason: StopReason,
-        message: str,
-        path: list[NDArray[np.float64]],
-        t_wall: float,
-        t_sim0: float,
-    ) -> ExecutionResult:
+        plan: Plan,
+        position: NDArray[np.float64],
+        distance: float,
+        clock: tuple[float, float, float],
+    ) -> None:
+        """Book-keeping after each plan: timings (observe, maps, plan), plans, the entity's
+        position and distance to the target; then the ``on_replan`` callback."""
+        t0, t1, t2 = clock
+        result.timings_ms.append(
+            {
+                "observe": (t1 - t0) * 1e3,
+                "maps": (t2 - t1) * 1e3,
+                "plan": (time.perf_counter() - t2) * 1e3,
+            }
+        )
+        result.replans += 1
+        result.last_plan = plan
+        result.first_plan = result.first_plan or plan
+        result.final_distance = distance
+        result._path.append(np.asarray(position, dtype=np.float64))
+        if self.on_replan is not None:
+            self.on_replan(result, plan)
+
+    def timed_out(self, result: ExecutionResult) -> bool:
+        """Whether the call has used its simulated time budget."""
+        return self._sim_time() - result.started_sim >= self.config.max_time_s
+
+    def finish(self, result: ExecutionResult, reason: StopReason, message: str) -> ExecutionResult:
+        """Close ``result`` with a stop reason and a sentence saying why."""
         result.success = reason in ("reached", "end_of_travel")
         result.reason = reason
         result.message = message
-        result.entity_path = np.asarray(path).reshape(-1, 3)
-        result.wall_time = time.perf_counter() - t_wall
-        result.sim_time = self._sim_time() - t_sim0
+        result.entity_path = np.asarray(result._path).reshape(-1, 3)
+        result.wall_time = time.perf_counter() - result.started_wall
+        result.sim_time = self._sim_time() - result.started_sim
         log.info("execute(%s): %s — %s", result.entity, reason, message)
         return result
 

@@ -41,12 +41,8 @@ def run_object(
     loop: ClosedLoopExecutor, movable: Any, name: str, maps: dict[str, MapSource]
 ) -> ExecutionResult:
     """Push ``movable`` (re-detected every step) to the affordance target."""
-    from voxposer.control.executor import ExecutionResult
-
     cfg, world = loop.config, loop.world
-    result = ExecutionResult(False, "timeout", "", name)
-    path: list[NDArray[np.float64]] = []
-    t_wall, t_sim0 = time.perf_counter(), loop.sim_time()
+    result = loop.start(name)
     axis_of = getattr(world, "sliding_axis", None)
     axis = axis_of(name) if callable(axis_of) else None
     previous: NDArray[np.float64] | None = None
@@ -70,36 +66,17 @@ def run_object(
                 entity_occupancy=entity["occupancy"],
             )
         except PlanningError as err:
-            return loop.finish(result, "planning_failed", str(err), path, t_wall, t_sim0)
+            return loop.finish(result, "planning_failed", str(err))
         offset = plan.target - centre
         offset = offset @ axis * axis if axis is not None else np.array([*offset[:2], 0.0])
         dist = float(np.linalg.norm(offset))
-        result.timings_ms.append(
-            {
-                "observe": (t1 - t0) * 1e3,
-                "maps": (t2 - t1) * 1e3,
-                "plan": (time.perf_counter() - t2) * 1e3,
-            }
-        )
-        result.replans += 1
-        result.last_plan = plan
-        result.first_plan = result.first_plan or plan
-        result.final_distance = dist
-        path.append(centre)
-        if loop.on_replan is not None:
-            loop.on_replan(result, plan)
+        loop.record(result, plan, centre, dist, (t0, t1, t2))
         if dist <= cfg.reach_tolerance_m:
             return loop.finish(
-                result,
-                "reached",
-                f"{name} reached the target ({dist * 100:.1f} cm away)",
-                path,
-                t_wall,
-                t_sim0,
+                result, "reached", f"{name} reached the target ({dist * 100:.1f} cm away)"
             )
         if previous is not None:
-            toward = offset / max(dist, 1e-9)
-            moved = float((centre - previous) @ toward)
+            moved = float((centre - previous) @ (offset / max(dist, 1e-9)))
             stuck = stuck + 1 if moved < cfg.min_progress_m else 0
             if axis is not None and stuck >= END_OF_TRAVEL_PUSHES:
                 return loop.finish(
@@ -107,18 +84,12 @@ def run_object(
                     "end_of_travel",
                     f"{name} moved as far as it goes "
                     f"toward the target ({dist * 100:.1f} cm short of it)",
-                    path,
-                    t_wall,
-                    t_sim0,
                 )
             if stuck >= STALLED_PUSHES:
                 return loop.finish(
                     result,
                     "stalled",
                     f"pushing {name} made no progress; {dist * 100:.1f} cm from the target",
-                    path,
-                    t_wall,
-                    t_sim0,
                 )
         action = random_shooting(
             entity["points"],
@@ -138,22 +109,14 @@ def run_object(
             push(world, action, sideways=axis is not None)
         except UnreachablePoseError as err:
             log.info("push unreachable (%s); sampling another", err)
-        if loop.sim_time() - t_sim0 >= cfg.max_time_s:
+        if loop.timed_out(result):
             return loop.finish(
                 result,
                 "timeout",
                 f"time limit {cfg.max_time_s:.0f} s reached {dist * 100:.1f} cm from the target",
-                path,
-                t_wall,
-                t_sim0,
             )
     return loop.finish(
-        result,
-        "stalled",
-        f"{cfg.max_pushes} pushes did not bring {name} to the target",
-        path,
-        t_wall,
-        t_sim0,
+        result, "stalled", f"{cfg.max_pushes} pushes did not bring {name} to the target"
     )
 
 

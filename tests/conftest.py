@@ -1,4 +1,4 @@
-"""Shared fixtures for the tabletop-world tests (EGL offscreen rendering)."""
+"""Shared fixtures: one tabletop world per test session (EGL offscreen rendering)."""
 
 import os
 
