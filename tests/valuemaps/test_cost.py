@@ -3,7 +3,7 @@ import pytest
 
 from voxposer.errors import ConfigError, EmptyAffordanceError, InvalidMapError, OutOfWorkspaceError
 from voxposer.valuemaps import CostMapConfig, ValueMapAPI, VoxelGrid, compose_cost_map
-from voxposer.valuemaps.cost import pool_max
+from voxposer.valuemaps.voxel_ops import pool_max
 
 GRID = VoxelGrid((0, 0, 0), (1, 1, 1), (100, 100, 100))
 API = ValueMapAPI(GRID)
@@ -123,25 +123,25 @@ def test_config_rejects_bad_values(field: str, value: float) -> None:
 def test_region_of_interest_gaussian_equals_the_full_filter() -> None:
     from scipy import ndimage
 
-    from voxposer.valuemaps.cost import _smooth
+    from voxposer.valuemaps.voxel_ops import smooth_zero_padded
 
     rng = np.random.default_rng(0)
     vol = np.zeros((50, 40, 30), np.float32)
     vol[10:20, 30:35, 5:9] = rng.random((10, 5, 4))
     full = ndimage.gaussian_filter(vol, 5, truncate=3, mode="constant")
-    np.testing.assert_array_equal(_smooth(vol, 5, 3), full)
+    np.testing.assert_array_equal(smooth_zero_padded(vol, 5, 3), full)
 
 
 @pytest.mark.parametrize("count", [1, 3, 50])
 def test_target_distance_equals_the_distance_transform(count: int) -> None:
     from scipy import ndimage
 
-    from voxposer.valuemaps.cost import _distance_to
+    from voxposer.valuemaps.voxel_ops import distance_to
 
     rng = np.random.default_rng(count)
     vox = np.unique(rng.integers(0, [50, 40, 30], size=(count, 3)), axis=0)
     mask = np.zeros((50, 40, 30), bool)
     mask[tuple(vox.T)] = True
     np.testing.assert_allclose(
-        _distance_to(mask, vox), ndimage.distance_transform_edt(~mask), atol=1e-4
+        distance_to(mask, vox), ndimage.distance_transform_edt(~mask), atol=1e-4
     )

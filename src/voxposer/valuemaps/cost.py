@@ -22,6 +22,14 @@ from scipy import ndimage
 from voxposer.errors import ConfigError, EmptyAffordanceError, OutOfWorkspaceError
 from voxposer.valuemaps.grid import VoxelGrid
 from voxposer.valuemaps.maps import check_value_map
+from voxposer.valuemaps.voxel_ops import (
+    ball,
+    clear_sphere,
+    distance_to,
+    normalise,
+    pool_max,
+    smooth_zero_padded,
+)
 
 
 @dataclass(frozen=True)
@@ -119,103 +127,6 @@ class CostMap:
     config: CostMapConfig
 
 
-def pool_max(volume: NDArray, factor: int) -> NDArray:
-    """Block maximum over ``factor``³ cells, padding the upper side with the array minimum.
-
-    ``volume`` has shape (X, Y, Z); the result has shape ``ceil((X, Y, Z) / factor)``.
-    """
-    if factor == 1:
-        return volume
-    shape = np.asarray(volume.shape)
-    padded_shape = -(-shape // factor) * factor
-    if np.any(padded_shape != shape):
-        fill = False if volume.dtype == bool else volume.min()
-        padded = np.full(padded_shape, fill, dtype=volume.dtype)
-        padded[: shape[0], : shape[1], : shape[2]] = volume
-        volume = padded
-    out = volume[::factor, ::factor, ::factor].copy()
-    for i in range(factor):
-        for j in range(factor):
-            for k in range(factor):
-                if i or j or k:
-                    np.maximum(out, volume[i::factor, j::factor, k::factor], out=out)
-    return out
-
-
-def _normalise(values: NDArray[np.float32]) -> NDArray[np.float32]:
-    lo, hi = float(values.min()), float(values.max())
-    if hi - lo < 1e-12:
-        return np.zeros_like(values)
-    values -= lo
-    values *= 1.0 / (hi - lo)
-    return values
-
-
-def _distance_to(mask: NDArray[np.bool_], voxels: NDArray[np.int64]) -> NDArray[np.float32]:
-    """Euclidean distance [voxels] from every voxel to the nearest True voxel of ``mask``.
-
-    ``voxels`` lists the True voxels, shape (K, 3). A handful of targets (the usual case: a point
-    above an object) is done by broadcasting; larger regions by scipy's distance transform.
-    """
-    if len(voxels) > 8:
-        return ndimage.distance_transform_edt(~mask).astype(np.float32)
-    axes = [np.arange(n, dtype=np.float32) for n in mask.shape]
-    best = np.full(mask.shape, np.inf, dtype=np.float32)
-    for v in voxels:
-        dx, dy, dz = ((axes[a] - v[a]) ** 2 for a in range(3))
-        np.minimum(best, dx[:, None, None] + dy[None, :, None] + dz[None, None, :], out=best)
-    return np.sqrt(best, out=best)
-
-
-def _smooth(volume: NDArray[np.float32], sigma: float, truncate: float) -> NDArray[np.float32]:
-    """Gaussian filter (zero outside the grid), run only where the result can be non-zero.
-
-    The kernel is cut at ``truncate * sigma`` voxels, so outside the bounding box of the non-zero
-    input grown by that radius the output is exactly zero; the result equals filtering the whole
-    volume.
-    """
-    radius = int(truncate * sigma + 0.5)
-    lo, hi = [], []
-    for axis in range(3):
-        other = tuple(a for a in range(3) if a != axis)
-        nz = np.flatnonzero(volume.any(axis=other))
-        lo.append(max(int(nz[0]) - radius, 0))
-        hi.append(min(int(nz[-1]) + radius + 1, volume.shape[axis]))
-    box = (slice(lo[0], hi[0]), slice(lo[1], hi[1]), slice(lo[2], hi[2]))
-    out = np.zeros_like(volume)
-    out[box] = ndimage.gaussian_filter(volume[box], sigma, truncate=truncate, mode="constant")
-    return out
-
-
-def _ball(radius_voxels: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """Ellipsoidal structuring element with the given per-axis radii [voxels]."""
-    r = np.floor(radius_voxels).astype(int)
-    axes = [np.arange(-r[a], r[a] + 1) / max(radius_voxels[a], 1e-9) for a in range(3)]
-    x, y, z = np.meshgrid(*axes, indexing="ij", sparse=True)
-    return np.asarray(x**2 + y**2 + z**2 <= 1.0 + 1e-9)
-
-
-def _clear_sphere(
-    mask: NDArray[np.bool_], grid: VoxelGrid, centre: NDArray, radius_cm: float
-) -> None:
-    """Set ``mask`` False within ``radius_cm`` of world point ``centre`` [m] (in place)."""
-    if radius_cm <= 0:
-        return
-    c = grid.world_to_voxel(centre, clip=True)
-    reach = np.ceil(radius_cm / 100.0 / grid.resolution).astype(int)
-    lo = np.maximum(c - reach, 0)
-    hi = np.minimum(c + reach + 1, np.asarray(grid.shape))
-    axes = [
-        grid.voxel_to_world(np.zeros(3))[a] + np.arange(lo[a], hi[a]) * grid.resolution[a]
-        for a in range(3)
-    ]
-    x, y, z = np.meshgrid(*axes, indexing="ij", sparse=True)
-    inside = (x - centre[0]) ** 2 + (y - centre[1]) ** 2 + (z - centre[2]) ** 2 <= (
-        radius_cm / 100.0
-    ) ** 2
-    mask[lo[0] : hi[0], lo[1] : hi[1], lo[2] : hi[2]] &= ~inside
-
-
 def compose_cost_map(
     grid: VoxelGrid,
     affordance_map: NDArray,
@@ -264,8 +175,8 @@ def compose_cost_map(
     target_mask[ct[:, 0], ct[:, 1], ct[:, 2]] = True
 
     # Affordance: distance to the nearest target, normalised.
-    target_distance = _distance_to(target_mask, np.unique(ct, axis=0))
-    affordance_cost = _normalise(target_distance.copy())
+    target_distance = distance_to(target_mask, np.unique(ct, axis=0))
+    affordance_cost = normalise(target_distance.copy())
 
     fine_obstacles = _scene_obstacles(grid, occupancy, entity_occupancy, start_m, fine_targets, cfg)
 
@@ -281,7 +192,9 @@ def compose_cost_map(
     avoidance_cost = np.zeros(coarse.shape, dtype=np.float32)
     if avoid is not None and float(avoid.max()) > 0:
         pooled = pool_max(avoid.astype(np.float32, copy=False), f)
-        avoidance_cost = _normalise(_smooth(pooled, cfg.avoidance_sigma / f, cfg.gaussian_truncate))
+        avoidance_cost = normalise(
+            smooth_zero_padded(pooled, cfg.avoidance_sigma / f, cfg.gaussian_truncate)
+        )
 
     cost = cfg.affordance_weight * affordance_cost
     if cfg.avoidance_weight > 0:
@@ -290,10 +203,10 @@ def compose_cost_map(
     obstacles = pool_max(fine_obstacles, f)
     if cfg.obstacle_margin_cm > 0:  # grown on the planning grid (cheap), then cleared again
         radius = cfg.obstacle_margin_cm / 100.0 / coarse.resolution
-        obstacles = ndimage.binary_dilation(obstacles, structure=_ball(radius))
-        _clear_sphere(obstacles, coarse, start_m, cfg.entity_clear_radius_cm)
+        obstacles = ndimage.binary_dilation(obstacles, structure=ball(radius))
+        clear_sphere(obstacles, coarse, start_m, cfg.entity_clear_radius_cm)
         for target in _target_representatives(grid, fine_targets):
-            _clear_sphere(obstacles, coarse, target, cfg.target_clear_radius_cm)
+            clear_sphere(obstacles, coarse, target, cfg.target_clear_radius_cm)
     obstacles &= ~target_mask
     return CostMap(
         grid=coarse,
@@ -334,9 +247,9 @@ def _scene_obstacles(
                 f"entity_occupancy has shape {ent.shape}; expected {grid.shape}"
             )
         obstacles &= ~ent
-    _clear_sphere(obstacles, grid, start, cfg.entity_clear_radius_cm)
+    clear_sphere(obstacles, grid, start, cfg.entity_clear_radius_cm)
     for target in _target_representatives(grid, fine_targets):
-        _clear_sphere(obstacles, grid, target, cfg.target_clear_radius_cm)
+        clear_sphere(obstacles, grid, target, cfg.target_clear_radius_cm)
     obstacles[fine_targets[:, 0], fine_targets[:, 1], fine_targets[:, 2]] = False
     return obstacles
 

@@ -1,0 +1,111 @@
+"""Voxel-volume operations behind cost-map composition: pooling, distances, smoothing, spheres.
+
+Each is exact and vectorised; shapes are (X, Y, Z) voxel volumes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from voxposer.valuemaps.grid import VoxelGrid
+
+
+def pool_max(volume: NDArray, factor: int) -> NDArray:
+    """Block maximum over ``factor``³ cells, padding the upper side with the array minimum.
+
+    ``volume`` has shape (X, Y, Z); the result has shape ``ceil((X, Y, Z) / factor)``.
+    """
+    if factor == 1:
+        return volume
+    shape = np.asarray(volume.shape)
+    padded_shape = -(-shape // factor) * factor
+    if np.any(padded_shape != shape):
+        fill = False if volume.dtype == bool else volume.min()
+        padded = np.full(padded_shape, fill, dtype=volume.dtype)
+        padded[: shape[0], : shape[1], : shape[2]] = volume
+        volume = padded
+    out = volume[::factor, ::factor, ::factor].copy()
+    for i in range(factor):
+        for j in range(factor):
+            for k in range(factor):
+                if i or j or k:
+                    np.maximum(out, volume[i::factor, j::factor, k::factor], out=out)
+    return out
+
+
+def normalise(values: NDArray[np.float32]) -> NDArray[np.float32]:
+    lo, hi = float(values.min()), float(values.max())
+    if hi - lo < 1e-12:
+        return np.zeros_like(values)
+    values -= lo
+    values *= 1.0 / (hi - lo)
+    return values
+
+
+def distance_to(mask: NDArray[np.bool_], voxels: NDArray[np.int64]) -> NDArray[np.float32]:
+    """Euclidean distance [voxels] from every voxel to the nearest True voxel of ``mask``.
+
+    ``voxels`` lists the True voxels, shape (K, 3). A handful of targets (the usual case: a point
+    above an object) is done by broadcasting; larger regions by scipy's distance transform.
+    """
+    if len(voxels) > 8:
+        return ndimage.distance_transform_edt(~mask).astype(np.float32)
+    axes = [np.arange(n, dtype=np.float32) for n in mask.shape]
+    best = np.full(mask.shape, np.inf, dtype=np.float32)
+    for v in voxels:
+        dx, dy, dz = ((axes[a] - v[a]) ** 2 for a in range(3))
+        np.minimum(best, dx[:, None, None] + dy[None, :, None] + dz[None, None, :], out=best)
+    return np.sqrt(best, out=best)
+
+
+def smooth_zero_padded(
+    volume: NDArray[np.float32], sigma: float, truncate: float
+) -> NDArray[np.float32]:
+    """Gaussian filter (zero outside the grid), run only where the result can be non-zero.
+
+    The kernel is cut at ``truncate * sigma`` voxels, so outside the bounding box of the non-zero
+    input grown by that radius the output is exactly zero; the result equals filtering the whole
+    volume.
+    """
+    radius = int(truncate * sigma + 0.5)
+    lo, hi = [], []
+    for axis in range(3):
+        other = tuple(a for a in range(3) if a != axis)
+        nz = np.flatnonzero(volume.any(axis=other))
+        lo.append(max(int(nz[0]) - radius, 0))
+        hi.append(min(int(nz[-1]) + radius + 1, volume.shape[axis]))
+    box = (slice(lo[0], hi[0]), slice(lo[1], hi[1]), slice(lo[2], hi[2]))
+    out = np.zeros_like(volume)
+    out[box] = ndimage.gaussian_filter(volume[box], sigma, truncate=truncate, mode="constant")
+    return out
+
+
+def ball(radius_voxels: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Ellipsoidal structuring element with the given per-axis radii [voxels]."""
+    r = np.floor(radius_voxels).astype(int)
+    axes = [np.arange(-r[a], r[a] + 1) / max(radius_voxels[a], 1e-9) for a in range(3)]
+    x, y, z = np.meshgrid(*axes, indexing="ij", sparse=True)
+    return np.asarray(x**2 + y**2 + z**2 <= 1.0 + 1e-9)
+
+
+def clear_sphere(
+    mask: NDArray[np.bool_], grid: VoxelGrid, centre: NDArray, radius_cm: float
+) -> None:
+    """Set ``mask`` False within ``radius_cm`` of world point ``centre`` [m] (in place)."""
+    if radius_cm <= 0:
+        return
+    c = grid.world_to_voxel(centre, clip=True)
+    reach = np.ceil(radius_cm / 100.0 / grid.resolution).astype(int)
+    lo = np.maximum(c - reach, 0)
+    hi = np.minimum(c + reach + 1, np.asarray(grid.shape))
+    axes = [
+        grid.voxel_to_world(np.zeros(3))[a] + np.arange(lo[a], hi[a]) * grid.resolution[a]
+        for a in range(3)
+    ]
+    x, y, z = np.meshgrid(*axes, indexing="ij", sparse=True)
+    inside = (x - centre[0]) ** 2 + (y - centre[1]) ** 2 + (z - centre[2]) ** 2 <= (
+        radius_cm / 100.0
+    ) ** 2
+    mask[lo[0] : hi[0], lo[1] : hi[1], lo[2] : hi[2]] &= ~inside
