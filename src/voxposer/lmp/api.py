@@ -1,0 +1,188 @@
+"""The functions generated code may call (paper App. A.3, plus higher-level helpers).
+
+Everything here works in voxel coordinates of the scene's grid (about 1 cm voxels) and is lenient
+about its inputs: a voxel may be an int or float array, a list, or an object (its centre); object
+names match by synonym and substring. Direction words: front +x, back/behind −x, right +y,
+left −y, above/top/over/up +z, below/under/bottom/down −z (also "+x", "-y"…).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+from typing import Any, Final
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from voxposer.errors import OutOfWorkspaceError, VoxPoserError
+from voxposer.lmp.objects import ObjectView, match_name
+from voxposer.lmp.scene import Scene
+from voxposer.valuemaps.maps import ValueMapAPI
+
+#: Distance [cm] between an object's face and the point ``point_beside`` returns by default.
+DEFAULT_OFFSET_CM: Final = 5.0
+#: How far in from an edge ``point_on`` puts "side"/"corner" points (fraction of the extent).
+EDGE_INSET: Final = 0.2
+
+_WORDS: Final[dict[str, tuple[int, int]]] = {
+    "front": (0, 1), "+x": (0, 1), "x": (0, 1), "forward": (0, 1),
+    "back": (0, -1), "behind": (0, -1), "rear": (0, -1), "-x": (0, -1), "backward": (0, -1),
+    "right": (1, 1), "+y": (1, 1), "y": (1, 1),
+    "left": (1, -1), "-y": (1, -1),
+    "top": (2, 1), "above": (2, 1), "over": (2, 1), "up": (2, 1), "+z": (2, 1), "z": (2, 1),
+    "upper": (2, 1), "on": (2, 1),
+    "bottom": (2, -1), "below": (2, -1), "under": (2, -1), "beneath": (2, -1), "down": (2, -1),
+    "-z": (2, -1), "lower": (2, -1), "underneath": (2, -1),
+}
+_NEUTRAL: Final = {"center", "centre", "middle", "side", "of", "the", "corner", "face", "edge",
+                   "and", "", "part", "half", "region", "area", "surface"}
+
+
+class SideError(VoxPoserError, ValueError):
+    """A side/direction phrase has no word the API understands."""
+
+
+def parse_side(side: str) -> dict[int, int]:
+    """Axis → sign (+1/−1) for a phrase such as "back left" or "+y" (centre words allowed).
+
+    Raises:
+        SideError: a word is not a direction, or two words contradict on one axis.
+    """
+    out: dict[int, int] = {}
+    for word in re.split(r"[\s,/_]+|(?<=[a-z])-(?=[a-z])", str(side).strip().lower()):
+        if word in _NEUTRAL:
+            continue
+        if word not in _WORDS:
+            raise SideError(f"unknown side word {word!r} in {side!r}; use: "
+                            + ", ".join(sorted(set(_WORDS) - {"x", "y", "z"})) + " or 'center'")
+        axis, sign = _WORDS[word]
+        if out.get(axis, sign) != sign:
+            raise SideError(f"side {side!r} names both directions of one axis")
+        out[axis] = sign
+    return out
+
+
+class LMPAPI:
+    """The scene-bound API of generated code. :meth:`namespace` lists what the code sees."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.grid = scene.grid
+        self.maps = ValueMapAPI(self.grid, ee_quat=lambda: scene.ee_pose()[1],
+                                gripper_state=scene.gripper_state)
+
+    # ------------------------------------------------------------------ perception
+    def detect(self, name: str) -> ObjectView:
+        """The object called ``name`` (synonyms and substrings accepted), in voxel coordinates."""
+        if isinstance(name, ObjectView):
+            return name
+        canonical = match_name(name, self.scene.object_names)
+        return ObjectView.from_detection(canonical, self.scene.detect(canonical), self.grid)
+
+    def _obj(self, obj: Any) -> ObjectView:
+        return obj if isinstance(obj, ObjectView) else self.detect(str(obj))
+
+    def voxel(self, value: Any, name: str = "voxel") -> NDArray[np.int64]:
+        """A valid int voxel index from an index-like value or an object (its centre)."""
+        if isinstance(value, ObjectView):
+            return value.position.copy()
+        if callable(value) and hasattr(value, "position"):
+            return np.asarray(value.position, dtype=np.int64)
+        return self.grid.check_voxel(np.asarray(value, dtype=np.float64).reshape(-1), name)
+
+    # --------------------------------------------------------------------- helpers
+    def point_beside(self, obj: Any, side: str, cm: float = DEFAULT_OFFSET_CM) -> NDArray[np.int64]:
+        """Voxel ``cm`` centimetres outside the named face(s) of ``obj``, centred on the others.
+
+        ``side`` is one or more direction words ("left", "top", "back left", "+y"); "center"
+        gives the object's centre. Raises OutOfWorkspaceError when the point leaves the grid.
+        """
+        o = self._obj(obj)
+        signs = parse_side(side)
+        lo, hi = o.aabb_world
+        point = o.position_world.copy()
+        for axis, sign in signs.items():
+            face = hi[axis] if sign > 0 else lo[axis]
+            point[axis] = face + sign * float(cm) / 100.0
+        return self._to_voxel(point, f"point {cm} cm {side} of the {o.name}")
+
+    def point_on(self, obj: Any, where: str = "center", cm_above: float = 0.0) -> NDArray[np.int64]:
+        """Voxel on the top surface of ``obj`` at a named part ("back left corner", "left side",
+        "center"), raised ``cm_above`` centimetres. Side points lie 20% in from that edge."""
+        o = self._obj(obj)
+        signs = parse_side(where)
+        lo, hi = o.aabb_world
+        point = o.position_world.copy()
+        for axis, sign in signs.items():
+            if axis == 2:
+                continue
+            span = hi[axis] - lo[axis]
+            point[axis] = hi[axis] - EDGE_INSET * span if sign > 0 else lo[axis] + EDGE_INSET * span
+        point[2] = hi[2] + float(cm_above) / 100.0 + 0.5 * self.grid.resolution[2]
+        return self._to_voxel(point, f"point on the {where} of the {o.name}")
+
+    def region_mask(self, obj: Any, where: str) -> NDArray[np.bool_]:
+        """Bool mask, shape ``grid.shape``: voxels over the named half/quadrant of ``obj``'s
+        footprint ("left side", "back left corner"), at every height ("top": above it only)."""
+        o = self._obj(obj)
+        signs = parse_side(where)
+        lo, hi = o.aabb
+        centre = o.position
+        mask = np.zeros(self.grid.shape, dtype=bool)
+        sl = [slice(lo[0], hi[0] + 1), slice(lo[1], hi[1] + 1), slice(None)]
+        for axis, sign in signs.items():
+            if axis == 2:
+                sl[2] = slice(hi[2] + 1, None) if sign > 0 else slice(0, centre[2] + 1)
+            else:
+                sl[axis] = slice(centre[axis], hi[axis] + 1) if sign > 0 else slice(lo[axis], centre[axis])
+        mask[tuple(sl)] = True
+        return mask
+
+    def _to_voxel(self, point: NDArray[np.float64], what: str) -> NDArray[np.int64]:
+        if not bool(self.grid.contains(point)):
+            raise OutOfWorkspaceError(
+                f"{what} is at {np.round(point, 3).tolist()} m, outside the workspace "
+                f"[{self.grid.bounds_min.tolist()}, {self.grid.bounds_max.tolist()}] m")
+        return self.grid.world_to_voxel(point)
+
+    # ------------------------------------------------------------------ paper's API
+    def set_voxel_by_radius(self, voxel_map: NDArray, voxel_xyz: Any, radius_cm: float = 0.0,
+                            value: ArrayLike = 1.0) -> NDArray:
+        """Set voxels within ``radius_cm`` of ``voxel_xyz`` (index or object) to ``value``."""
+        return self.maps.set_voxel_by_radius(voxel_map, self.voxel(voxel_xyz, "voxel_xyz"),
+                                             radius_cm, value)
+
+    def cm2index(self, cm: float, direction: Any) -> Any:
+        """Voxels spanned by ``cm`` centimetres along ``direction`` ("x", "-y", "left", vector)."""
+        if isinstance(direction, str) and direction.strip().lower() in _WORDS \
+                and direction.strip().lower() not in ("x", "y", "z", "+x", "-x", "+y", "-y", "+z", "-z"):
+            axis, sign = _WORDS[direction.strip().lower()]
+            vec = np.zeros(3)
+            vec[axis] = sign
+            return self.grid.cm2index(cm, vec)
+        return self.grid.cm2index(cm, direction)
+
+    def index2cm(self, index: float, direction: Any) -> float:
+        """Centimetres spanned by ``index`` voxels along ``direction``."""
+        return self.grid.index2cm(index, direction)
+
+    def namespace(self) -> dict[str, Callable[..., Any] | Any]:
+        """Name → function for generated code (the API reference in the prompts lists them)."""
+        m = self.maps
+        return {
+            "detect": self.detect,
+            "point_beside": self.point_beside,
+            "point_on": self.point_on,
+            "region_mask": self.region_mask,
+            "set_voxel_by_radius": self.set_voxel_by_radius,
+            "cm2index": self.cm2index,
+            "index2cm": self.index2cm,
+            "pointat2quat": m.pointat2quat,
+            "get_empty_affordance_map": m.get_empty_affordance_map,
+            "get_empty_avoidance_map": m.get_empty_avoidance_map,
+            "get_empty_rotation_map": m.get_empty_rotation_map,
+            "get_empty_velocity_map": m.get_empty_velocity_map,
+            "get_empty_gripper_map": m.get_empty_gripper_map,
+            "grid_shape": tuple(self.grid.shape),
+        }

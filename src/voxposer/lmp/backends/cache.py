@@ -1,0 +1,143 @@
+"""A persistent sqlite cache of LLM responses, and a backend wrapper that consults it.
+
+Keys are :meth:`LLMRequest.key` of (backend name, model, full request), so a different model,
+prompt, temperature or stop list is a different entry. The database runs in WAL mode with a busy
+timeout, so several threads and processes may share it. Only successful responses are stored.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import sqlite3
+import threading
+import time
+from dataclasses import asdict, replace
+from pathlib import Path
+
+from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
+
+log = logging.getLogger(__name__)
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS responses (
+    key TEXT PRIMARY KEY,
+    backend TEXT NOT NULL,
+    model TEXT NOT NULL,
+    request TEXT NOT NULL,
+    text TEXT NOT NULL,
+    prompt_tokens INTEGER NOT NULL,
+    completion_tokens INTEGER NOT NULL,
+    seconds REAL NOT NULL,
+    created REAL NOT NULL
+)
+"""
+
+
+class ResponseCache:
+    """Responses on disk, keyed by backend + model + request.
+
+    Args:
+        path: the sqlite file (created with its directory when missing).
+    """
+
+    def __init__(self, path: Path) -> None:
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._lock = threading.Lock()
+        self._conn = sqlite3.connect(self.path, timeout=30.0, check_same_thread=False)
+        with self._lock:
+            self._conn.execute("PRAGMA journal_mode=WAL")
+            self._conn.execute("PRAGMA synchronous=NORMAL")
+            self._conn.execute(_SCHEMA)
+            self._conn.commit()
+
+    def get(self, key: str) -> LLMResponse | None:
+        """The stored response for ``key`` (marked ``cached=True``), or None."""
+        with self._lock:
+            row = self._conn.execute(
+                "SELECT model, text, prompt_tokens, completion_tokens, seconds "
+                "FROM responses WHERE key = ?",
+                (key,),
+            ).fetchone()
+        if row is None:
+            return None
+        model, text, prompt_tokens, completion_tokens, seconds = row
+        return LLMResponse(
+            text=text,
+            model=model,
+            prompt_tokens=prompt_tokens,
+            completion_tokens=completion_tokens,
+            seconds=0.0,
+            cached=True,
+            extra={"original_seconds": seconds},
+        )
+
+    def put(self, key: str, backend: str, request: LLMRequest, response: LLMResponse) -> None:
+        """Store ``response`` under ``key`` (replacing an older entry)."""
+        with self._lock:
+            self._conn.execute(
+                "INSERT OR REPLACE INTO responses VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (
+                    key,
+                    backend,
+                    response.model,
+                    json.dumps(asdict(request), ensure_ascii=False),
+                    response.text,
+                    response.prompt_tokens,
+                    response.completion_tokens,
+                    response.seconds,
+                    time.time(),
+                ),
+            )
+            self._conn.commit()
+
+    def __len__(self) -> int:
+        with self._lock:
+            (count,) = self._conn.execute("SELECT COUNT(*) FROM responses").fetchone()
+        return int(count)
+
+    def clear(self) -> None:
+        """Delete every entry."""
+        with self._lock:
+            self._conn.execute("DELETE FROM responses")
+            self._conn.commit()
+
+    def close(self) -> None:
+        """Close the database connection."""
+        with self._lock:
+            self._conn.close()
+
+
+class CachedBackend(LLMBackend):
+    """Wraps ``inner``: answers from ``cache`` when it can, else asks ``inner`` and stores.
+
+    Args:
+        inner: the backend that produces responses on a miss.
+        cache: the response store.
+    """
+
+    def __init__(self, inner: LLMBackend, cache: ResponseCache) -> None:
+        self.inner = inner
+        self.cache = cache
+        self.name = inner.name
+
+    @property
+    def model(self) -> str:
+        return self.inner.model
+
+    def complete(self, request: LLMRequest) -> LLMResponse:
+        key = request.key(self.inner.name, self.inner.model)
+        start = time.perf_counter()
+        hit = self.cache.get(key)
+        if hit is not None:
+            log.debug("response cache hit %s", key[:12])
+            return replace(hit, seconds=time.perf_counter() - start)
+        response = self.inner.complete(request)
+        if not response.cached:
+            self.cache.put(key, self.inner.name, request, response)
+        return response
+
+    def close(self) -> None:
+        self.inner.close()
+        self.cache.close()

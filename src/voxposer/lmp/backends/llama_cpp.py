@@ -1,0 +1,305 @@
+"""A local GGUF model in-process (llama-cpp-python), with few-shot prefix reuse.
+
+Prompts are rendered with the model's own chat template (from the GGUF metadata). The prefix of a
+request is everything before its last message (the query): the program's header and examples.
+It is evaluated once; its KV state is then
+
+* kept live in the context (llama-cpp-python reuses the longest common token prefix, so the next
+  query with the same prefix pays only for its own tokens),
+* kept in memory, so switching between programs restores it in milliseconds, and
+* (for requests with a ``prefix_id``) saved to disk by a :class:`PrefixStateStore`, so a new
+  process skips the evaluation too.
+
+By default one context serves all programs and swaps prefix states (``max_contexts=1``): each
+extra context costs ~0.5 GB (compute buffers, KV cache, repacked weights) for no speed-up on a
+small CPU machine.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import logging
+import threading
+import time
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from voxposer.errors import ConfigError, LLMError
+from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest, LLMResponse
+from voxposer.lmp.backends.config import available_cores
+from voxposer.lmp.backends.prefix_state import (
+    PrefixState,
+    PrefixStateStore,
+    file_fingerprint,
+    prefix_key,
+)
+
+log = logging.getLogger(__name__)
+
+MIN_PREFIX_TOKENS = 32  # shorter prefixes are not worth saving
+_CHATML = (
+    "{% for m in messages %}<|im_start|>{{ m['role'] }}\n{{ m['content'] }}<|im_end|>\n"
+    "{% endfor %}{% if add_generation_prompt %}<|im_start|>assistant\n{% endif %}"
+)
+
+
+def _import_llama_cpp() -> Any:
+    try:
+        import llama_cpp
+        import llama_cpp.llama_chat_format
+    except ImportError as exc:  # pragma: no cover - depends on the install
+        raise LLMError(
+            "llama-cpp-python is not installed; run `bash scripts/setup.sh` "
+            "(it installs the '[model]' extra) or pip install -e '.[model]'"
+        ) from exc
+    return llama_cpp
+
+
+@dataclass
+class _Slot:
+    """One llama.cpp context and when it was last used."""
+
+    llm: Any
+    used: float = field(default_factory=time.monotonic)
+
+
+def _common_prefix(llm: Any, tokens: list[int] | np.ndarray) -> int:
+    """How many leading ``tokens`` the context ``llm`` already holds."""
+    n = min(int(llm.n_tokens), len(tokens))
+    differ = np.flatnonzero(llm.input_ids[:n] != np.asarray(tokens[:n]))
+    return int(differ[0]) if differ.size else n
+
+
+class LlamaCppBackend(LLMBackend):
+    """Chat completions from a GGUF model file, evaluated in this process.
+
+    Args:
+        model_path: the .gguf file.
+        model_name: name reported in responses and cache keys (default: the file's stem).
+        n_ctx: context window [tokens].
+        n_threads: CPU threads; None = the cores available.
+        n_batch: prompt evaluation batch [tokens].
+        state_store: where prefix states persist across processes (None = memory only).
+        model_sha256: the file's known sha256 (keys saved states; else a cheap fingerprint).
+        max_contexts: live contexts kept (each ~0.5 GB); prefixes beyond swap state.
+        max_memory_states: evaluated prefix states kept in memory for swapping.
+    """
+
+    name = "llama_cpp"
+
+    def __init__(
+        self,
+        model_path: Path,
+        *,
+        model_name: str | None = None,
+        n_ctx: int = 4096,
+        n_threads: int | None = None,
+        n_batch: int = 512,
+        state_store: PrefixStateStore | None = None,
+        model_sha256: str | None = None,
+        max_contexts: int = 1,
+        max_memory_states: int = 16,
+    ) -> None:
+        self.model_path = Path(model_path)
+        if not self.model_path.is_file():
+            raise ConfigError(f"model={str(self.model_path)!r}: no such GGUF file")
+        if n_ctx < 512:
+            raise ConfigError(f"n_ctx={n_ctx} tokens must be >= 512")
+        if max_contexts < 1:
+            raise ConfigError(f"max_contexts={max_contexts} must be >= 1")
+        self._lib = _import_llama_cpp()
+        self._model_name = model_name or self.model_path.stem
+        self.n_ctx = n_ctx
+        self.n_threads = n_threads or available_cores()
+        self.n_batch = n_batch
+        self.state_store = state_store
+        self.max_contexts = max_contexts
+        self.max_memory_states = max_memory_states
+        self._fingerprint = file_fingerprint(self.model_path, model_sha256)
+        self._runtime = f"llama-cpp-python-{self._lib.__version__}"
+        self._slots: list[_Slot] = []
+        self._states: OrderedDict[str, PrefixState] = OrderedDict()  # by prefix_id
+        self._lock = threading.RLock()
+        self._formatters: tuple[Any, Any] | None = None
+
+    @property
+    def model(self) -> str:
+        return self._model_name
+
+    # ----------------------------------------------------------------------------- contexts
+
+    def _new_llama(self) -> Any:
+        log.info("loading %s (n_ctx=%d, threads=%d)", self.model_path, self.n_ctx, self.n_threads)
+        try:
+            return self._lib.Llama(
+                model_path=str(self.model_path),
+                n_ctx=self.n_ctx,
+                n_batch=self.n_batch,
+                n_threads=self.n_threads,
+                n_threads_batch=self.n_threads,
+                use_mmap=True,
+                logits_all=False,
+                verbose=False,
+            )
+        except (ValueError, RuntimeError) as exc:
+            raise LLMError(f"cannot load GGUF model {self.model_path}: {exc}") from exc
+
+    def _pick_slot(self, tokens: list[int]) -> _Slot:
+        """The context sharing the longest prefix with ``tokens``, else a new or the oldest one."""
+        best = max(self._slots, key=lambda s: _common_prefix(s.llm, tokens), default=None)
+        if best is not None and _common_prefix(best.llm, tokens) > 0:
+            return best
+        if len(self._slots) < self.max_contexts:
+            self._slots.append(_Slot(self._new_llama()))
+            return self._slots[-1]
+        return min(self._slots, key=lambda s: s.used)
+
+    def _first_llm(self) -> Any:
+        if not self._slots:
+            self._slots.append(_Slot(self._new_llama()))
+        return self._slots[0].llm
+
+    # ----------------------------------------------------------------------------- prompts
+
+    def _render(self, messages: tuple[ChatMessage, ...]) -> tuple[str, str | None]:
+        """(full prompt with the assistant turn opened, prefix before the last message)."""
+        if self._formatters is None:
+            llm = self._first_llm()
+            template = llm.metadata.get("tokenizer.chat_template") or _CHATML
+            eos = llm.detokenize([llm.token_eos()], special=True).decode("utf-8", "replace")
+            bos_id = llm.token_bos()
+            bos = llm.detokenize([bos_id], special=True).decode() if bos_id >= 0 else ""
+            fmt = self._lib.llama_chat_format.Jinja2ChatFormatter
+            self._formatters = (
+                fmt(template, eos_token=eos, bos_token=bos, add_generation_prompt=True),
+                fmt(template, eos_token=eos, bos_token=bos, add_generation_prompt=False),
+            )
+        full_fmt, prefix_fmt = self._formatters
+        as_dicts = [{"role": m.role, "content": m.content} for m in messages]
+        full = full_fmt(messages=as_dicts).prompt
+        prefix = prefix_fmt(messages=as_dicts[:-1]).prompt if len(as_dicts) > 1 else None
+        if prefix is not None and not full.startswith(prefix):
+            log.debug("chat template renders the prefix differently; no prefix reuse")
+            prefix = None
+        return full, prefix
+
+    def _tokenize(self, text: str) -> list[int]:
+        return list(self._first_llm().tokenize(text.encode("utf-8"), add_bos=True, special=True))
+
+    # ----------------------------------------------------------------------------- states
+
+    def _capture(self, llm: Any, key: str, n_tokens: int) -> PrefixState:
+        size = self._lib.llama_state_get_size(llm.ctx)
+        buf = (ctypes.c_uint8 * size)()
+        written = self._lib.llama_state_get_data(llm.ctx, buf, size)
+        tokens = np.array(llm.input_ids[:n_tokens], dtype=np.int32)
+        return PrefixState(key=key, tokens=tokens, data=bytes(memoryview(buf)[:written]))
+
+    def _restore(self, llm: Any, state: PrefixState) -> None:
+        buf = (ctypes.c_uint8 * len(state.data)).from_buffer_copy(state.data)
+        if self._lib.llama_state_set_data(llm.ctx, buf, len(state.data)) != len(state.data):
+            raise LLMError(f"cannot restore prefix state {state.key[:12]} into {self.model}")
+        llm.input_ids[: state.n_tokens] = state.tokens
+        llm.n_tokens = state.n_tokens
+        llm._requires_eval = True  # llama-cpp-python's flag: decode before sampling
+
+    def _remember(self, prefix_id: str, state: PrefixState) -> None:
+        self._states[prefix_id] = state
+        self._states.move_to_end(prefix_id)
+        while len(self._states) > self.max_memory_states:
+            self._states.popitem(last=False)
+
+    def _known_base(self, prefix_id: str, tokens: list[int]) -> PrefixState | None:
+        """The remembered prefix state of ``prefix_id`` if ``tokens`` start with it.
+
+        A self-correction retry appends turns after the query; its prefix then extends the
+        program's few-shot prefix, which is reused rather than saved again.
+        """
+        state = self._states.get(prefix_id)
+        if state is None or state.n_tokens > len(tokens):
+            return None
+        return state if np.array_equal(state.tokens, tokens[: state.n_tokens]) else None
+
+    def _evaluate(self, llm: Any, tokens: list[int]) -> None:
+        """Make ``llm`` hold exactly ``tokens``, reusing its longest common prefix with them."""
+        keep = min(_common_prefix(llm, tokens), len(tokens) - 1)
+        llm.n_tokens = keep
+        llm.eval(tokens[keep:])  # drops KV cells from ``keep`` on, then decodes the rest
+
+    def _prepare(
+        self, prefix_id: str | None, prefix: str | None, full: list[int]
+    ) -> tuple[_Slot, dict[str, object]]:
+        """A context holding the request's few-shot prefix (evaluated, restored or live)."""
+        slot = self._pick_slot(full)
+        if prefix_id is None or prefix is None:
+            return slot, {"prefix": "none"}
+        tokens = self._tokenize(prefix)
+        if len(tokens) < MIN_PREFIX_TOKENS or len(tokens) >= self.n_ctx - 16:
+            return slot, {"prefix": "none"}
+        start = time.perf_counter()
+        base = self._known_base(prefix_id, tokens)
+        source = "memory"
+        if base is None:
+            key = prefix_key(self._fingerprint, self._runtime, self.n_ctx, prefix)
+            base = self.state_store.load(key) if self.state_store is not None else None
+            source = "disk"
+            if base is None or not np.array_equal(base.tokens, tokens):
+                source = "evaluated"
+                self._evaluate(slot.llm, tokens)
+                base = self._capture(slot.llm, key, len(tokens))
+                if self.state_store is not None:
+                    self.state_store.save(base, prefix_id)
+            self._remember(prefix_id, base)
+        if _common_prefix(slot.llm, base.tokens) >= base.n_tokens:
+            source = "live" if source == "memory" else source
+        else:
+            self._restore(slot.llm, base)
+        seconds = time.perf_counter() - start
+        log.info("prefix %s (%d tokens): %s in %.2f s", prefix_id, base.n_tokens, source, seconds)
+        return slot, {"prefix": source, "prefix_tokens": base.n_tokens, "prefix_seconds": seconds}
+
+    # ----------------------------------------------------------------------------- requests
+
+    def complete(self, request: LLMRequest) -> LLMResponse:
+        if not request.messages:
+            raise LLMError("request has no messages")
+        with self._lock:
+            start = time.perf_counter()
+            full, prefix = self._render(request.messages)
+            tokens = self._tokenize(full)
+            room = self.n_ctx - len(tokens)
+            if room < 16:
+                raise LLMError(
+                    f"prompt of {len(tokens)} tokens does not fit n_ctx={self.n_ctx} of "
+                    f"{self.model}; raise n_ctx (VOXPOSER_LLM_N_CTX) or shorten the prompt"
+                )
+            max_tokens = min(request.max_tokens, room)
+            slot, info = self._prepare(request.prefix_id, prefix, tokens)
+            slot.used = time.monotonic()
+            out = slot.llm.create_completion(
+                prompt=tokens,
+                max_tokens=max_tokens,
+                temperature=request.temperature,
+                stop=list(request.stop) or None,
+            )
+            choice = out["choices"][0]
+            usage = out.get("usage") or {}
+            return LLMResponse(
+                text=choice["text"],
+                model=self._model_name,
+                prompt_tokens=int(usage.get("prompt_tokens", len(tokens))),
+                completion_tokens=int(usage.get("completion_tokens", 0)),
+                seconds=time.perf_counter() - start,
+                extra={**info, "finish_reason": choice.get("finish_reason")},
+            )
+
+    def close(self) -> None:
+        with self._lock:
+            for slot in self._slots:
+                slot.llm.close()
+            self._slots.clear()
+            self._states.clear()

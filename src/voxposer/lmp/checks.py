@@ -1,0 +1,76 @@
+"""Sanity checks on what generated code returns; a failed check triggers self-correction.
+
+Once the prompt is good, a small model's mistakes rarely raise: they produce a map that is
+empty, unchanged or out of range. These checks turn such results into errors with a message the
+model can act on.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from voxposer.errors import EmptyAffordanceError, ResultError
+from voxposer.lmp.objects import ObjectView
+from voxposer.lmp.registry import LMPSpec
+from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.valuemaps.maps import check_value_map
+
+#: Largest velocity scale accepted (the paper's "3x speed" is the largest in its task list).
+MAX_SPEED_SCALE = 10.0
+
+
+def check_result(spec: LMPSpec, namespace: dict[str, Any], grid: VoxelGrid) -> Any:
+    """The checked result of ``spec``'s code from its namespace after execution.
+
+    Raises:
+        ResultError: missing result, wrong type, or a map failing its sanity check.
+        EmptyAffordanceError: an affordance map with no positive voxel.
+        InvalidMapError: wrong shape/dtype or NaN values.
+    """
+    name = spec.result_name
+    if name is None:
+        return None
+    if name not in namespace:
+        raise ResultError(f"the code did not assign `{name}`; end it with `{name} = ...`")
+    value = namespace[name]
+    if spec.role == "object":
+        if isinstance(value, ObjectView):
+            return value
+        if isinstance(value, list | tuple) and value and all(isinstance(v, ObjectView) for v in value):
+            return value[0] if len(value) == 1 else list(value)
+        raise ResultError(f"`{name}` must be an object returned by detect(...); got "
+                          f"{type(value).__name__}")
+    return check_map(spec.map_kind or "", value, grid)
+
+
+def check_map(kind: str, value: Any, grid: VoxelGrid) -> np.ndarray:
+    """Validate a value map of ``kind`` (see :func:`check_result`); returns it as float32."""
+    if isinstance(value, list | tuple):
+        raise ResultError(f"`ret_val` must be the {kind} map array of shape {grid.shape}; got a "
+                          f"{type(value).__name__}")
+    arr = np.asarray(check_value_map(kind, value, grid), dtype=np.float32)
+    if kind == "affordance" and not np.any(arr > 0):
+        raise EmptyAffordanceError("the affordance map is empty (no voxel > 0); set the target "
+                                   "voxel(s) to 1, e.g. affordance_map[x, y, z] = 1")
+    if kind == "avoidance" and not np.any(arr > 0):
+        raise ResultError("the avoidance map is unchanged (all zeros); set the voxels to avoid "
+                          "to 1, e.g. with set_voxel_by_radius(avoidance_map, obj.position, 10, 1)")
+    if kind == "velocity":
+        if np.all(arr == 1.0):
+            raise ResultError("the velocity map is unchanged (all 1); set the speed scale where "
+                              "the query asks for it")
+        if np.any(arr <= 0) or np.any(arr > MAX_SPEED_SCALE):
+            raise ResultError(f"velocity scales must be in (0, {MAX_SPEED_SCALE}]; got min "
+                              f"{arr.min():.3g}, max {arr.max():.3g}")
+    if kind == "gripper" and (np.any(arr < 0) or np.any(arr > 1)):
+        raise ResultError(f"gripper values must be 0 (open) or 1 (closed); got min "
+                          f"{arr.min():.3g}, max {arr.max():.3g}")
+    if kind == "rotation":
+        norms = np.linalg.norm(arr, axis=-1)
+        if np.any(np.abs(norms - 1.0) > 1e-2):
+            raise ResultError("the rotation map must hold unit quaternions (x, y, z, w) in every "
+                              "voxel, e.g. from pointat2quat(...)")
+        arr = arr / norms[..., None]
+    return arr

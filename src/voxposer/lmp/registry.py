@@ -1,0 +1,107 @@
+"""The language model programs (paper Sec. 4, App. A.6): one prompt file + one line each.
+
+==================  =========  ==============================================================
+LMP                 role       its code …
+==================  =========  ==============================================================
+planner             planner    calls ``composer("<sub-task>")`` once per sub-task
+composer            composer   calls the map LMPs and ``execute(movable, ..._map=...)``
+parse_query_obj     object     sets ``ret_val`` to ``detect(...)``'s object (or a computation)
+get_affordance_map  map        sets ``ret_val`` to an affordance map (high = go here)
+get_avoidance_map   map        … an avoidance map (high = stay away)
+get_rotation_map    map        … a rotation map (quaternion x, y, z, w per voxel)
+get_velocity_map    map        … a velocity-scale map (1 = default speed)
+get_gripper_map     map        … a gripper map (1 closed, 0 open)
+==================  =========  ==============================================================
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Final, Literal
+
+from voxposer.errors import ConfigError
+from voxposer.lmp.sandbox import SandboxConfig
+
+Role = Literal["planner", "composer", "object", "map"]
+
+
+@dataclass(frozen=True)
+class LMPSpec:
+    """How one LMP is called and what its code must produce.
+
+    Attributes:
+        name: the LMP's name; also its prompt file ``prompts/<name>.txt`` and the function name
+            other LMPs' code calls it by.
+        role: see the module table.
+        map_kind: for map LMPs, the value-map kind ("affordance"…).
+        with_objects: prefix the query with ``objects = [...]`` (the scene's object names).
+    """
+
+    name: str
+    role: Role
+    map_kind: str | None = None
+    with_objects: bool = False
+
+    @property
+    def result_name(self) -> str | None:
+        """The variable the code must assign (None: the code acts through calls)."""
+        return "ret_val" if self.role in ("object", "map") else None
+
+
+LMP_SPECS: Final[dict[str, LMPSpec]] = {
+    spec.name: spec
+    for spec in (
+        LMPSpec("planner", "planner", with_objects=True),
+        LMPSpec("composer", "composer"),
+        LMPSpec("parse_query_obj", "object", with_objects=True),
+        LMPSpec("get_affordance_map", "map", "affordance"),
+        LMPSpec("get_avoidance_map", "map", "avoidance"),
+        LMPSpec("get_rotation_map", "map", "rotation"),
+        LMPSpec("get_velocity_map", "map", "velocity"),
+        LMPSpec("get_gripper_map", "map", "gripper"),
+    )
+}
+MAP_LMPS: Final = tuple(n for n, s in LMP_SPECS.items() if s.role == "map")
+
+
+@dataclass(frozen=True)
+class LMPConfig:
+    """Settings shared by all LMPs of a runtime.
+
+    Attributes:
+        max_attempts: LLM calls per (LMP, query) including self-correction retries (>= 1).
+        temperature: sampling temperature (0 = greedy).
+        max_tokens: generation limit per call [tokens].
+        stop: stop sequences passed to the backend.
+        max_depth: deepest nesting of LMP calls (composer → map → parse_query_obj is 3).
+        prompt_dir: directory with the prompt files (None: the packaged prompts).
+        sandbox: limits of each execution of generated code.
+    """
+
+    max_attempts: int = 3
+    temperature: float = 0.0
+    max_tokens: int = 512
+    stop: tuple[str, ...] = ()
+    max_depth: int = 6
+    prompt_dir: str | None = None
+    sandbox: SandboxConfig = field(default_factory=SandboxConfig)
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.max_attempts, int) and 1 <= self.max_attempts <= 10):
+            raise ConfigError(f"LMPConfig.max_attempts must be an int in [1, 10]; got "
+                              f"{self.max_attempts!r}")
+        if not (isinstance(self.temperature, int | float) and 0.0 <= self.temperature <= 2.0):
+            raise ConfigError(f"LMPConfig.temperature must be in [0, 2]; got {self.temperature!r}")
+        if not (isinstance(self.max_tokens, int) and 16 <= self.max_tokens <= 8192):
+            raise ConfigError(f"LMPConfig.max_tokens must be an int in [16, 8192]; got "
+                              f"{self.max_tokens!r}")
+        if not (isinstance(self.max_depth, int) and 1 <= self.max_depth <= 20):
+            raise ConfigError(f"LMPConfig.max_depth must be an int in [1, 20]; got "
+                              f"{self.max_depth!r}")
+
+
+def get_spec(name: str) -> LMPSpec:
+    """The spec of LMP ``name``; raises ConfigError listing the known LMPs."""
+    if name not in LMP_SPECS:
+        raise ConfigError(f"unknown LMP {name!r}; LMPs are: {', '.join(LMP_SPECS)}")
+    return LMP_SPECS[name]

@@ -1,0 +1,265 @@
+"""Runs the language model programs: prompting, sandboxed execution, self-correction, caching.
+
+One :class:`LMPRuntime` holds the shared variable context (the scene-bound API, every LMP as a
+callable, ``execute``), the code cache keyed by (LMP, query), and the transcript. LMPs call each
+other through their code, as in Code as Policies: ``get_affordance_map`` code calls
+``parse_query_obj('blue block')``, which runs that LMP (asking the LLM only the first time).
+
+Self-correction: when code raises, leaves its result unset, or fails a sanity check
+(:mod:`voxposer.lmp.checks`), the error is appended to the conversation and the model is asked
+again, up to ``LMPConfig.max_attempts`` calls. Code that has already had side effects (an
+``execute`` or ``composer`` call) is not retried.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import asdict
+from typing import Any
+
+from voxposer.errors import ConfigError, LMPFailedError, ProgramError, SandboxError
+from voxposer.lmp.api import LMPAPI
+from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
+from voxposer.lmp.checks import check_result
+from voxposer.lmp.codetext import extract_code
+from voxposer.lmp.executor import MAP_ARGUMENTS, ExecutionRequest, Executor, RecordingExecutor
+from voxposer.lmp.objects import ObjectView
+from voxposer.lmp.program import ObjectProgram, ValueMapProgram
+from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
+from voxposer.lmp.registry import MAP_LMPS, LMPConfig, LMPSpec, get_spec
+from voxposer.lmp.sandbox import Sandbox, suspend_time_limit
+from voxposer.lmp.scene import Scene
+from voxposer.lmp.transcript import Transcript
+
+logger = logging.getLogger(__name__)
+
+RETRY_MESSAGE = (RETRY_PREFIX + "\n{error}\nFix it. Answer with the corrected Python code only, "
+                 "no explanation.")
+
+
+def query_message(spec: LMPSpec, query: str, object_names: tuple[str, ...]) -> str:
+    """The user message for ``query`` (with the scene's objects for planner/parse_query_obj)."""
+    text = f"{QUERY_PREFIX}{query}"
+    if spec.with_objects:
+        text = f"objects = {list(object_names)!r}\n{text}"
+    return text
+
+
+class LMPRuntime:
+    """The LMPs of one scene and backend.
+
+    Args:
+        scene: what the programs perceive (:class:`~voxposer.lmp.scene.Scene`).
+        backend: the language model.
+        executor: receives ``execute`` calls (default: a :class:`RecordingExecutor`).
+        config: retries, decoding and sandbox limits.
+        transcript: where to log prompts, responses, code and errors (default: in memory).
+
+    Attributes:
+        llm_calls: number of backend calls made so far.
+        code_cache: (lmp, query) → accepted code.
+    """
+
+    def __init__(self, scene: Scene, backend: LLMBackend, executor: Executor | None = None,
+                 config: LMPConfig | None = None, transcript: Transcript | None = None) -> None:
+        self.scene = scene
+        self.backend = backend
+        self.executor: Executor = executor if executor is not None else RecordingExecutor()
+        self.config = config or LMPConfig()
+        self.transcript = transcript or Transcript()
+        self.api = LMPAPI(scene)
+        self.sandbox = Sandbox(self.config.sandbox)
+        self.llm_calls = 0
+        self.code_cache: dict[tuple[str, str], str] = {}
+        self._prompts: dict[str, Prompt] = {}
+        self._depth = 0
+        self._side_effects = 0
+        self._subtask = ""
+
+    # ------------------------------------------------------------------ public entry points
+    def run(self, instruction: str) -> None:
+        """Plan ``instruction`` into sub-tasks and carry each out (planner → composer → execute)."""
+        self.query("planner", instruction)
+
+    def query(self, lmp: str, query: str) -> Any:
+        """The current result of ``lmp(query)``: cached code re-run, or generated (LLM) first."""
+        if (lmp, query) in self.code_cache:
+            return self.replay(lmp, query)
+        return self._generate(get_spec(lmp), query)
+
+    def program(self, lmp: str, query: str) -> ValueMapProgram:
+        """A re-evaluable program for ``lmp(query)`` (generated and checked now if not cached)."""
+        if (lmp, query) not in self.code_cache:
+            self._generate(get_spec(lmp), query)
+        cls = ObjectProgram if get_spec(lmp).role == "object" else ValueMapProgram
+        return cls(self, lmp, query, self.code_cache[(lmp, query)])
+
+    def replay(self, lmp: str, query: str) -> Any:
+        """Re-run the cached code of ``lmp(query)`` on the current scene (no LLM call)."""
+        spec, code = get_spec(lmp), self.code_cache[(lmp, query)]
+        try:
+            return self._evaluate(spec, query, code, attempt=0, replay=True)
+        except Exception as exc:
+            raise LMPFailedError(lmp, query, [{"code": code, "error": _describe(exc)}]) from exc
+
+    def prompt(self, lmp: str) -> Prompt:
+        """The (cached) prompt of ``lmp``."""
+        if lmp not in self._prompts:
+            self._prompts[lmp] = load_prompt(lmp, self.config.prompt_dir)
+        return self._prompts[lmp]
+
+    # ------------------------------------------------------------------------ generation
+    def _generate(self, spec: LMPSpec, query: str) -> Any:
+        if self._depth >= self.config.max_depth:
+            raise ProgramError(f"LMP calls nested deeper than {self.config.max_depth} "
+                               f"({spec.name}({query!r})); do not call LMPs recursively")
+        prompt = self.prompt(spec.name)
+        base = prompt.messages(query_message(spec, query, self.scene.object_names))
+        self.transcript.prompt_once(spec.name, [asdict(m) for m in base[:-1]])
+        messages = list(base)
+        attempts: list[dict[str, str]] = []
+        self._depth += 1
+        try:
+            for attempt in range(1, self.config.max_attempts + 1):
+                text = self._complete(spec, query, messages, n_prefix=len(base) - 1,
+                                      attempt=attempt)
+                code = extract_code(text)
+                effects = self._side_effects
+                try:
+                    value = self._evaluate(spec, query, code, attempt=attempt, replay=False)
+                except Exception as exc:
+                    attempts.append({"code": code, "error": _describe(exc)})
+                    if self._side_effects != effects or isinstance(exc, _NoRetry):
+                        cause = exc.original if isinstance(exc, _NoRetry) else exc
+                        raise LMPFailedError(spec.name, query, attempts) from cause
+                    logger.info("%s(%r) attempt %d failed: %s", spec.name, query, attempt,
+                                attempts[-1]["error"])
+                    messages += [ChatMessage("assistant", text),
+                                 ChatMessage("user", RETRY_MESSAGE.format(error=attempts[-1]["error"]))]
+                    continue
+                self.code_cache[(spec.name, query)] = code
+                return value
+        finally:
+            self._depth -= 1
+        raise LMPFailedError(spec.name, query, attempts)
+
+    def _complete(self, spec: LMPSpec, query: str, messages: list[ChatMessage], n_prefix: int,
+                  attempt: int) -> str:
+        request = LLMRequest(messages=tuple(messages), temperature=self.config.temperature,
+                             max_tokens=self.config.max_tokens, stop=self.config.stop,
+                             prefix_id=spec.name)
+        self.llm_calls += 1
+        start = time.monotonic()
+        response = self.backend.complete(request)
+        self.transcript.write(
+            "llm_call", lmp=spec.name, query=query, attempt=attempt,
+            messages=[asdict(m) for m in messages[n_prefix:]], response=response.text,
+            model=response.model, seconds=round(time.monotonic() - start, 3),
+            cached=response.cached)
+        return response.text
+
+    def _evaluate(self, spec: LMPSpec, query: str, code: str, attempt: int, replay: bool) -> Any:
+        start = time.monotonic()
+        error = None
+        try:
+            namespace = self.sandbox.run(code, self._variables(spec, query))
+            return check_result(spec, namespace, self.scene.grid)
+        except Exception as exc:
+            error = _describe(exc)
+            raise
+        finally:
+            self.transcript.write("exec", lmp=spec.name, query=query, attempt=attempt, code=code,
+                                  ok=error is None, error=error,
+                                  seconds=round(time.monotonic() - start, 4), replay=replay)
+
+    # ------------------------------------------------------------------ variable context
+    def _variables(self, spec: LMPSpec, query: str) -> dict[str, Any]:
+        """The names ``spec``'s code sees (shared API + LMP callables for its role)."""
+        out: dict[str, Any] = dict(self.api.namespace())
+        if spec.role == "map":
+            out["parse_query_obj"] = self._eager("parse_query_obj")
+        elif spec.role == "composer":
+            for name in ("parse_query_obj", *MAP_LMPS):
+                out[name] = self._lazy(name)
+            out["execute"] = self._make_execute(query)
+            out["reset_to_default_pose"] = self._reset
+        elif spec.role == "planner":
+            out = {"composer": self._composer, "reset_to_default_pose": self._reset}
+        if spec.with_objects:
+            out["objects"] = list(self.scene.object_names)
+        return out
+
+    def _eager(self, lmp: str) -> Any:
+        def call(query: str) -> Any:
+            with suspend_time_limit():
+                return self.query(lmp, str(query))
+        call.__name__ = lmp
+        return call
+
+    def _lazy(self, lmp: str) -> Any:
+        def call(query: str) -> ValueMapProgram:
+            with suspend_time_limit():
+                return self.program(lmp, str(query))
+        call.__name__ = lmp
+        return call
+
+    def _composer(self, subtask: str) -> None:
+        self._side_effects += 1
+        with suspend_time_limit():
+            previous, self._subtask = self._subtask, str(subtask)
+            try:
+                self.query("composer", str(subtask))
+            finally:
+                self._subtask = previous
+
+    def _reset(self) -> None:
+        self._side_effects += 1
+        with suspend_time_limit():
+            try:
+                self.executor.reset_to_default_pose()
+            except Exception as exc:
+                raise _NoRetry(exc) from exc
+
+    def _make_execute(self, subtask: str) -> Any:
+        def execute(movable: Any, **maps: Any) -> None:
+            unknown = sorted(set(maps) - set(MAP_ARGUMENTS))
+            if unknown:
+                raise TypeError(f"execute() got unknown argument(s) {unknown}; it accepts "
+                                f"movable and {', '.join(MAP_ARGUMENTS)}")
+            request = ExecutionRequest(
+                subtask=subtask, movable=self._as_callable(movable, "parse_query_obj"),
+                maps={k: self._as_callable(v, k) for k, v in maps.items() if v is not None})
+            self._side_effects += 1
+            with suspend_time_limit():
+                try:
+                    self.executor.execute(request)
+                except Exception as exc:
+                    raise _NoRetry(exc) from exc
+        return execute
+
+    def _as_callable(self, value: Any, what: str) -> Any:
+        if callable(value):
+            return value
+        if isinstance(value, str) and what == "parse_query_obj":
+            return self.program("parse_query_obj", value)
+        if isinstance(value, ObjectView) or hasattr(value, "shape"):
+            return lambda: value
+        raise ConfigError(f"execute() needs {what} from an LMP call (or an array); got "
+                          f"{type(value).__name__}")
+
+
+class _NoRetry(Exception):
+    """Wraps an executor failure so it propagates without self-correction."""
+
+    def __init__(self, original: BaseException) -> None:
+        super().__init__(str(original))
+        self.original = original
+
+
+def _describe(exc: BaseException) -> str:
+    if isinstance(exc, _NoRetry):
+        exc = exc.original
+    if isinstance(exc, SyntaxError) and not isinstance(exc, SandboxError):
+        return f"SyntaxError: {exc.msg} (line {exc.lineno}: {(exc.text or '').strip()})"
+    return f"{type(exc).__name__}: {exc}"
