@@ -8,6 +8,7 @@ Commands:
                 one) and write an HTML picture of the cost map and both paths.
     lmp         try one language model program on the fixed tabletop scene; print its code and
                 write the resulting map as HTML.
+    bench       the 13-task simulated benchmark (paper Table 4) in parallel, with a report.
     render      render the four camera views of a seeded tabletop scene to one PNG.
 """
 
@@ -89,10 +90,12 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
     demo.set_defaults(func=_plan_demo)
     from voxposer import run_cmd
+    from voxposer.bench import bench_cmd
     from voxposer.envs import render_cmd
     from voxposer.lmp import lmp_cmd
 
     run_cmd.add_parser(sub)
+    bench_cmd.add_parser(sub)
     lmp_cmd.add_parser(sub)
     render_cmd.add_parser(sub)
     return parser

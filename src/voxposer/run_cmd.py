@@ -138,31 +138,41 @@ def _progress_backend(backend: Any, progress: _Progress) -> Any:
 
 
 class _Disturber:
-    """Applies the paper's three disturbance kinds at fixed replanning steps (``--disturb``)."""
+    """Applies the paper's three disturbance kinds during a rollout (``--disturb``, App. A.4).
+
+    At 2, 4 and 6 simulated seconds after the first replan: a random force on the robot, a
+    displacement of the entity (or of a block when the entity is the gripper), and — only when
+    the entity is an object part such as a drawer — reverting task progress.
+    """
+
+    SCHEDULE = ((2.0, "push_robot"), (4.0, "displace_object"), (6.0, "revert_progress"))
 
     def __init__(self, world: Any, rng: np.random.Generator) -> None:
         self.world, self.rng = world, rng
-        self.count = 0
+        self.start: float | None = None
         self.applied: list[dict[str, Any]] = []
+        self._pending = list(self.SCHEDULE)
 
     def __call__(self, result: Any, plan: Any) -> None:
-        self.count += 1
-        kind = {4: "push_robot", 8: "displace_object", 12: "revert_progress"}.get(self.count)
-        if kind is None:
-            return
+        now = float(self.world.data.time)
+        self.start = now if self.start is None else self.start
+        while self._pending and now - self.start >= self._pending[0][0]:
+            _, kind = self._pending.pop(0)
+            record = self._apply(kind, result.entity)
+            if record is not None:
+                self.applied.append({"kind": kind, "sim_time": round(now, 2),
+                                     "record": repr(record)})
+
+    def _apply(self, kind: str, entity: str) -> Any:
         if kind == "push_robot":
-            record = self.world.push_robot(self.rng)
-        elif kind == "displace_object":
+            return self.world.push_robot(self.rng)
+        if kind == "displace_object":
             blocks = [n for n in self.world.object_names if n.endswith("block")]
-            name = result.entity if result.entity in blocks else (blocks[0] if blocks else None)
-            if name is None:
-                return
-            record = self.world.displace_object(self.rng, name)
-        else:
-            if "drawer" not in result.entity:
-                return  # only when the entity is an object part (paper App. A.4)
-            record = self.world.revert_progress(self.rng, result.entity.split()[0])
-        self.applied.append({"kind": kind, "at_replan": self.count, "record": repr(record)})
+            name = entity if entity in blocks else (blocks[0] if blocks else None)
+            return None if name is None else self.world.displace_object(self.rng, name)
+        if "drawer" in entity:  # reverting progress applies to object parts only
+            return self.world.revert_progress(self.rng, entity.split()[0])
+        return None
 
 
 def scene_layout(instruction: str) -> Any:

@@ -10,7 +10,6 @@ from voxposer.errors import PlanningError
 from voxposer.valuemaps import ValueMapAPI
 
 
-
 def _layout(**poses: tuple[float, float]) -> SceneLayout:
     blocks = tuple(name.removesuffix("_block") for name in poses)
     return SceneLayout(

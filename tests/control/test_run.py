@@ -150,3 +150,13 @@ def test_voxposer_run_reports_a_missing_recordings_file(tmp_path: Path) -> None:
     summary = json.loads((out / "summary.json").read_text())
     assert code == 1 and not summary["success"]
     assert "does not exist" in summary["message"]
+
+
+def test_voxposer_run_recovers_from_disturbances(tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    code = main(["run", "close the top drawer", "--llm", "replay", "--recordings", str(RECORDINGS),
+                 "--out", str(out), "--no-video", "--disturb", "--seed", "3"])
+    summary = json.loads((out / "summary.json").read_text())
+    kinds = {d["kind"] for d in summary["disturbances"]}
+    assert "revert_progress" in kinds, summary["disturbances"]  # the drawer was pulled open again
+    assert code == 0 and summary["success"], summary["message"]

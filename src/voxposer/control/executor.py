@@ -224,9 +224,9 @@ class ClosedLoopExecutor:
         for _ in range(steps):
             here = self.world.get_ee_pose()[0]
             near = int(np.argmin(np.linalg.norm(pos - here, axis=1)))
-            ahead = min(
-                int(np.searchsorted(arc, arc[near] + self.config.lookahead_m)), len(pos) - 1
-            )
+            # steer further ahead when faster than default, or the arm's tracking lag caps speed
+            lookahead = self.config.lookahead_m * max(1.0, float(traj.velocity_scales[near]))
+            ahead = min(int(np.searchsorted(arc, arc[near] + lookahead)), len(pos) - 1)
             wp = traj[ahead]
             res = self.world.step(
                 wp.position,

@@ -36,7 +36,7 @@ def scene_occupancy(
 ) -> NDArray[np.bool_]:
     """Voxels occupied by the scene, shape ``grid.shape``, from ``obs.cloud``.
 
-    Left out: the robot and its gripper; the entity itself (and its parts or parent, e.g. a
+    Left out: the robot and its gripper; the lines (flat, not interactable); the entity itself (and its parts or parent, e.g. a
     drawer and its handle); when ``holding``, any object within 5 cm of the end effector (it
     moves with the hand); and the table when ``ignore_table`` (a pushed object slides on it).
 
@@ -55,6 +55,8 @@ def scene_occupancy(
         if any(w in label for w in _ROBOT_WORDS) or (ent and _family(label, ent)):
             skip[k] = True
         if ignore_table and label == "table":
+            skip[k] = True
+        if label.endswith(" line"):  # flat visual landmarks, not obstacles (paper App. A.5)
             skip[k] = True
     labels = np.where(cloud.labels < 0, len(names), cloud.labels)
     keep = ~skip[labels]

@@ -1,0 +1,38 @@
+"""The paper's 13-task simulated benchmark (Sec. 4.2, App. A.5, Table 4) and its baseline.
+
+Public API:
+
+* :data:`TASKS`, :func:`get_task` — the task registry; each :class:`BenchTask` declares its
+  template, seen/unseen attributes, reset, success check and reference programs.
+* :class:`Tolerances` — every success threshold, in one place; :data:`PLACES` — table regions.
+* :func:`reset_episode`, :func:`run_episode`, :class:`EpisodeJob` — one episode.
+* :class:`BenchConfig`, :func:`run_bench` — many episodes in parallel, appended to a JSONL.
+* :data:`METHODS` — "voxposer" and "llm_primitives" (the LLM + Primitives baseline, App. A.4).
+* CLI: ``voxposer bench`` (:mod:`voxposer.bench.bench_cmd`).
+"""
+
+from voxposer.bench.config import Tolerances
+from voxposer.bench.episode import EpisodeJob, EpisodeRecord, run_episode
+from voxposer.bench.methods import METHODS, get_method
+from voxposer.bench.regions import PLACES, get_place
+from voxposer.bench.runner import BenchConfig, run_bench
+from voxposer.bench.task import BenchTask, Verdict, reset_episode
+from voxposer.bench.tasks import TASKS, get_task
+
+__all__ = [
+    "METHODS",
+    "PLACES",
+    "TASKS",
+    "BenchConfig",
+    "BenchTask",
+    "EpisodeJob",
+    "EpisodeRecord",
+    "Tolerances",
+    "Verdict",
+    "get_method",
+    "get_place",
+    "get_task",
+    "reset_episode",
+    "run_bench",
+    "run_episode",
+]

@@ -1,0 +1,146 @@
+"""``voxposer bench``: the paper's 13-task simulated benchmark (Table 4), in parallel.
+
+Writes to ``--out``: ``episodes.jsonl`` (one record per episode, appended as each finishes),
+``report.md`` (Table 4 layout beside the paper, Table 2-style aggregates, tolerances) and
+``success.png``. ``--llm reference`` runs hand-written reference programs instead of an LLM —
+it measures perception, planning, control and the checks, never the language model, and every
+report says so. Ctrl-C keeps the finished episodes and writes the report; ``--resume`` continues.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import time
+from pathlib import Path
+from typing import Any
+
+from rich.console import Console
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+
+from voxposer.bench.attributes import SPLITS
+from voxposer.bench.config import Tolerances
+from voxposer.bench.methods import METHODS
+from voxposer.bench.runner import LLM_CHOICES, BenchConfig, run_bench
+from voxposer.bench.tasks import TASKS
+
+log = logging.getLogger(__name__)
+console = Console(stderr=True)
+
+
+def add_parser(subparsers: Any) -> argparse.ArgumentParser:
+    """Register ``bench`` on an argparse sub-parsers object."""
+    p: argparse.ArgumentParser = subparsers.add_parser(
+        "bench", help="run the 13-task simulated benchmark (paper Table 4) and write a report")
+    p.add_argument("--tasks", default="all",
+                   help=f"comma-separated task names or 'all' (tasks: {', '.join(TASKS)})")
+    p.add_argument("--splits", default="seen,unseen", help="seen, unseen or both")
+    p.add_argument("--episodes", type=int, default=20, help="episodes per task and split")
+    p.add_argument("--seed", type=int, default=0, help="first episode seed")
+    p.add_argument("--method", default="voxposer", help=f"one of: {', '.join(METHODS)}")
+    p.add_argument("--llm", default="default", choices=LLM_CHOICES,
+                   help="LLM backend; 'reference' = hand-written reference programs (no LLM)")
+    p.add_argument("--model", default=None, help="model name (openai) or GGUF path (llama_cpp)")
+    p.add_argument("--base-url", default=None, help="OpenAI-compatible endpoint URL")
+    p.add_argument("--recordings", type=Path, default=None, help="recordings (--llm replay)")
+    p.add_argument("--workers", type=int, default=None, help="worker processes (default: cores)")
+    p.add_argument("--executor", choices=("local", "ray"), default="local",
+                   help="local process pool, or a Ray cluster (pip install 'voxposer[ray]')")
+    p.add_argument("--ray-address", default=None, help="Ray cluster address (--executor ray)")
+    p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
+    p.add_argument("--out", type=Path, default=None,
+                   help="output folder (default runs/bench/<method>-<llm>)")
+    p.add_argument("--resume", action="store_true", help="continue the episodes.jsonl in --out")
+    p.add_argument("--no-plot", action="store_true", help="skip success.png")
+    p.set_defaults(func=run)
+    return p
+
+
+def _config(args: argparse.Namespace) -> BenchConfig:
+    tasks = tuple(TASKS) if args.tasks == "all" else tuple(
+        t.strip() for t in args.tasks.split(",") if t.strip())
+    overrides = {k: v for k, v in {"model": args.model, "base_url": args.base_url,
+                                   "recordings_path": args.recordings}.items() if v is not None}
+    kwargs: dict[str, Any] = {}
+    if args.workers is not None:
+        kwargs["workers"] = args.workers
+    return BenchConfig(tasks=tasks, splits=tuple(s.strip() for s in args.splits.split(",")),
+                       episodes=args.episodes, seed=args.seed, method=args.method, llm=args.llm,
+                       executor=args.executor, ray_address=args.ray_address,
+                       max_time_s=args.max_time, llm_overrides=overrides, **kwargs)
+
+
+def write_outputs(records: list[dict[str, Any]], out: Path, plot: bool,
+                  wall_rates: dict[str, float] | None = None) -> Path:
+    """Write report.md (and success.png); returns the report's path."""
+    from voxposer.bench.report import markdown
+
+    report = out / "report.md"
+    text = markdown(records, Tolerances(), wall_rates)
+    report.write_text(text, encoding="utf-8")
+    if plot and records:
+        from voxposer.bench.plot import write_chart
+
+        write_chart(records, out / "success.png")
+    return report
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the benchmark; exit status 0 when it completed (whatever the success rates)."""
+    cfg = _config(args)
+    out = args.out or Path("runs") / "bench" / f"{cfg.method}-{cfg.llm}"
+    results = out / "episodes.jsonl"
+    if cfg.llm == "reference":
+        console.print("[bold yellow]reference programs[/]: hand-written programs replace the LLM "
+                      "(measures perception, planning, control and checks only)")
+    progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                        MofNCompleteColumn(), TextColumn("{task.fields[rate]}"),
+                        TimeElapsedColumn(), TimeRemainingColumn(), console=console)
+    bar = progress.add_task(f"{cfg.method}/{cfg.llm}", total=None, rate="")
+    counts = {"ok": 0, "n": 0, "errors": 0}
+    started = time.perf_counter()
+
+    def on_start(todo: int, done: int) -> None:
+        progress.update(bar, total=todo)
+        if done:
+            console.print(f"resuming: {done} episodes already in {results}")
+
+    def on_record(r: dict[str, Any]) -> None:
+        counts["n"] += 1
+        counts["ok"] += bool(r["success"])
+        counts["errors"] += r.get("error") is not None
+        progress.update(bar, advance=1, description=f"{r['task']} ({r['split']})",
+                        rate=f"{counts['ok']}/{counts['n']} ok, {counts['errors']} crashed")
+
+    interrupted = False
+    records: list[dict[str, Any]] = []
+    with progress:
+        try:
+            records = run_bench(cfg, results, resume=args.resume, on_record=on_record,
+                                on_start=on_start)
+        except KeyboardInterrupt:
+            interrupted = True
+    if interrupted:
+        from voxposer.bench.runner import load_records
+
+        records = load_records(results)
+        console.print(f"[bold red]interrupted[/]: {counts['n']} new episodes kept in {results}; "
+                      "continue with --resume")
+    hours = (time.perf_counter() - started) / 3600
+    rates = {f"{cfg.method}/{cfg.llm}": counts["n"] / hours} if counts["n"] and hours > 0 else {}
+    report = write_outputs(records, out, plot=not args.no_plot, wall_rates=rates)
+    console.print(report.read_text(encoding="utf-8").split("## Task categories")[0], markup=False,
+                  highlight=False)
+    console.print(f"wrote [bold]{report}[/], [bold]{results}[/]"
+                  + ("" if args.no_plot else f", [bold]{out / 'success.png'}[/]"))
+    return 130 if interrupted else 0
+
+
+__all__ = ["SPLITS", "add_parser", "run"]

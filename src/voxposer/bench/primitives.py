@@ -1,0 +1,135 @@
+"""The "LLM + Primitives" baseline (paper App. A.4): one LMP writing code against primitives.
+
+A variant of Code as Policies: the same LLM, one few-shot prompt (``prompts/llm_primitives.txt``,
+the size of VoxPoser's composer prompt) and the primitives ``move_to_pos``, ``rotate_by_quat``,
+``set_vel``, ``open_gripper``, ``close_gripper`` plus ``detect`` — positions in metres, no value
+maps, no planner. It reuses the LMP runtime (prompting, sandbox, self-correction, transcript):
+:class:`PrimitivesRuntime` only adds the LMP spec and its variables.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Final, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+from voxposer.errors import InvalidActionError
+from voxposer.lmp.backends.base import LLMBackend
+from voxposer.lmp.executor import RecordingExecutor
+from voxposer.lmp.registry import LMPConfig, LMPSpec
+from voxposer.lmp.runtime import LMPRuntime
+from voxposer.lmp.sandbox import suspend_time_limit
+from voxposer.lmp.scene import WorldScene
+
+#: The baseline's LMP: a composer-like program acting through primitive calls.
+PRIMITIVES_SPEC: Final = LMPSpec("llm_primitives", "composer", with_objects=True)
+
+
+class PrimitiveObject(NamedTuple):
+    """What ``detect`` returns to baseline code: ``position`` (3,) and ``aabb`` (2, 3) [m]."""
+
+    name: str
+    position: NDArray[np.float64]
+    aabb: NDArray[np.float64]
+
+
+class Primitives:
+    """The primitives, bound to a world. Each motion waits until the robot arrives."""
+
+    def __init__(self, world: Any) -> None:
+        self.world = world
+        self.speed = 1.0
+        self.calls = 0
+
+    def detect(self, name: str) -> PrimitiveObject:
+        """The object called ``name`` as currently observed (metres)."""
+        from voxposer.lmp.objects import match_name
+
+        canonical = match_name(str(name), self.world.object_names)
+        det = self.world.detect(canonical)
+        return PrimitiveObject(canonical, np.asarray(det["position"], float).copy(),
+                               np.asarray(det["aabb"], float).copy())
+
+    def move_to_pos(self, pos: ArrayLike) -> None:
+        """Move the end effector to ``pos`` [m], shape (3,), keeping its orientation."""
+        p = np.asarray(pos, dtype=float).reshape(-1)
+        if p.shape != (3,) or not np.all(np.isfinite(p)):
+            raise InvalidActionError(f"move_to_pos needs a finite (x, y, z) in metres; got {pos!r}")
+        self._act(lambda: self.world.move_to_pose(p, None, speed_scale=self.speed))
+
+    def rotate_by_quat(self, quat: ArrayLike) -> None:
+        """Rotate the end effector by ``quat`` (x, y, z, w) in the world frame, in place."""
+        q = np.asarray(quat, dtype=float).reshape(-1)
+        if q.shape != (4,) or not np.all(np.isfinite(q)) or np.linalg.norm(q) < 1e-6:
+            raise InvalidActionError(f"rotate_by_quat needs a quaternion (x, y, z, w); got {quat!r}")
+        pos, current = self.world.get_ee_pose()
+        target = (Rotation.from_quat(q / np.linalg.norm(q)) * Rotation.from_quat(current)).as_quat()
+        self._act(lambda: self.world.move_to_pose(pos, target, speed_scale=self.speed))
+
+    def set_vel(self, scale: float) -> None:
+        """Speed scale of the following motions (1 = the controller's default speed)."""
+        s = float(scale)
+        limit = float(self.world.config.controller.max_speed_scale)
+        if not 0.01 <= s <= limit:
+            raise InvalidActionError(f"set_vel scale must be in [0.01, {limit}]; got {scale!r}")
+        self.speed = s
+
+    def open_gripper(self) -> None:
+        """Open the fingers."""
+        self._act(self.world.open_gripper)
+
+    def close_gripper(self) -> None:
+        """Close the fingers."""
+        self._act(self.world.close_gripper)
+
+    def _act(self, fn: Any) -> None:
+        self.calls += 1
+        with suspend_time_limit():
+            fn()
+
+    def namespace(self) -> dict[str, Any]:
+        """Names the baseline's code sees."""
+        return {"detect": self.detect, "move_to_pos": self.move_to_pos,
+                "rotate_by_quat": self.rotate_by_quat, "set_vel": self.set_vel,
+                "open_gripper": self.open_gripper, "close_gripper": self.close_gripper}
+
+
+class PrimitivesRuntime(LMPRuntime):
+    """The LMP runtime with one extra LMP, ``llm_primitives``, whose code calls primitives.
+
+    Args:
+        world: the :class:`voxposer.envs.TabletopWorld`.
+        backend: the language model (the same one VoxPoser uses).
+        config: retries, decoding and sandbox limits.
+    """
+
+    def __init__(self, world: Any, backend: LLMBackend, config: LMPConfig | None = None,
+                 **kwargs: Any) -> None:
+        super().__init__(WorldScene(world), backend, RecordingExecutor(), config, **kwargs)
+        self.primitives = Primitives(world)
+
+    def run(self, instruction: str) -> None:
+        """Have the LLM write primitive code for ``instruction`` and run it (self-correcting
+        until the code has moved the robot; then errors propagate)."""
+        self._generate(PRIMITIVES_SPEC, instruction)
+
+    def _variables(self, spec: LMPSpec, query: str) -> dict[str, Any]:
+        if spec.name != PRIMITIVES_SPEC.name:
+            return super()._variables(spec, query)
+        calls_before = self.primitives.calls
+        out: dict[str, Any] = {}
+        for name, fn in self.primitives.namespace().items():
+            out[name] = self._counting(fn, calls_before)
+        out["objects"] = list(self.scene.object_names)
+        return out
+
+    def _counting(self, fn: Any, calls_before: int) -> Any:
+        def call(*args: Any, **kwargs: Any) -> Any:
+            result = fn(*args, **kwargs)
+            if self.primitives.calls > calls_before:
+                self._side_effects += 1  # the robot moved: do not retry this code
+            return result
+        call.__name__ = fn.__name__
+        return call

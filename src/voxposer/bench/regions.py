@@ -1,0 +1,101 @@
+"""The one place where table words ("back left corner", "right side") become geometry.
+
+World frame (metres): front = +x, back = −x, right = +y, left = −y; the table top spans
+x ∈ [−0.70, 0.30], y ∈ [−0.50, 0.50] and the robot base stands at (−0.60, 0). The true table
+corners are out of reach (≈ 0.75 m from the base), so every place is defined on the *reachable
+table* x ∈ [−0.50, 0.13], y ∈ [−0.38, 0.38]:
+
+* a **corner** is a point inset ≈ 8–12 cm from the reachable table's corner; being "at" it means
+  a horizontal distance below ``Tolerances.corner_radius_m``;
+* a **side** is a band of the table along that edge (half-plane): right y ≥ 0.15, left y ≤ −0.15,
+  front x ≥ −0.08, back x ≤ −0.35. Each side also has a target point well inside it.
+
+The LMP prompts' ``point_on(table, 'right side')`` (20 % in from the table edge, (−0.2, 0.3)) lies
+inside these sides; the reference programs aim at :attr:`Place.point` through fractions of the
+table's bounding box (:func:`table_fractions`), which is how generated code can reach it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from voxposer.errors import ConfigError
+
+#: Table top extent [m] (``WorldConfig.table_min/max``), used to express places as fractions.
+TABLE_MIN: Final = (-0.70, -0.50)
+TABLE_MAX: Final = (0.30, 0.50)
+
+
+@dataclass(frozen=True)
+class Place:
+    """A named place on the table.
+
+    Attributes:
+        name: the words of the instruction ("back left corner of the table").
+        kind: "corner" (a point) or "side" (a half-plane band).
+        point: target (x, y) [m] a correct program aims for.
+        axis: for sides, 0 (x) or 1 (y): the coordinate the half-plane bounds.
+        sign: for sides, +1 when the side is ``coord >= bound``, −1 when ``coord <= bound``.
+        bound: for sides, the half-plane's boundary [m].
+    """
+
+    name: str
+    kind: Literal["corner", "side"]
+    point: tuple[float, float]
+    axis: int = 0
+    sign: int = 1
+    bound: float = 0.0
+
+    def margin(self, xy: ArrayLike, corner_radius: float) -> NDArray[np.float64]:
+        """Signed distance [m] inside the place (> 0 inside) for points ``xy``, shape (..., 2)."""
+        p = np.asarray(xy, dtype=np.float64)[..., :2]
+        if self.kind == "corner":
+            return corner_radius - np.linalg.norm(p - np.asarray(self.point), axis=-1)
+        return self.sign * (p[..., self.axis] - self.bound)
+
+    def contains(self, xy: ArrayLike, corner_radius: float) -> NDArray[np.bool_]:
+        """Whether points ``xy`` (shape (..., 2) or (..., 3), metres) are in the place."""
+        return self.margin(xy, corner_radius) >= 0.0
+
+    @property
+    def words(self) -> str:
+        """The place without "of the table" ("back left corner")."""
+        return self.name.removesuffix(" of the table")
+
+
+def _side(name: str, axis: int, sign: int, bound: float, point: tuple[float, float]) -> Place:
+    return Place(name, "side", point, axis, sign, bound)
+
+
+#: Every [pos] / [region] value of App. A.5.
+PLACES: Final[dict[str, Place]] = {
+    p.name: p
+    for p in (
+        Place("back left corner of the table", "corner", (-0.42, -0.28)),
+        Place("back right corner of the table", "corner", (-0.42, 0.28)),
+        Place("front left corner of the table", "corner", (0.04, -0.28)),
+        Place("front right corner of the table", "corner", (0.04, 0.28)),
+        _side("right side of the table", 1, +1, 0.15, (-0.20, 0.28)),
+        _side("left side of the table", 1, -1, -0.15, (-0.20, -0.28)),
+        _side("front side of the table", 0, +1, -0.08, (0.05, 0.0)),
+        _side("back side of the table", 0, -1, -0.35, (-0.42, 0.0)),
+    )
+}
+
+
+def get_place(name: str) -> Place:
+    """The place called ``name``; raises ConfigError listing the known places."""
+    if name not in PLACES:
+        raise ConfigError(f"unknown place {name!r}; places are: {', '.join(PLACES)}")
+    return PLACES[name]
+
+
+def table_fractions(point: tuple[float, float]) -> tuple[float, float]:
+    """(fx, fy): ``point`` as fractions of the table's extent (0 = back/left edge)."""
+    return tuple(  # type: ignore[return-value]
+        round((point[k] - TABLE_MIN[k]) / (TABLE_MAX[k] - TABLE_MIN[k]), 3) for k in (0, 1)
+    )

@@ -1,0 +1,77 @@
+"""Helpers the task declarations share: layouts, keep-clear paths, common program pieces."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from voxposer.bench.programs import Programs
+from voxposer.envs.layout import SceneLayout
+
+#: Distractor counts of block tasks (the paper randomises "a number of objects" per task).
+DISTRACTOR_BLOCKS = (2, 4)
+DISTRACTOR_LINES = (1, 3)
+
+
+def colour(name: str) -> str:
+    """"blue block" → "blue"."""
+    return name.split()[0]
+
+
+def block_layout(poses: Mapping[str, tuple[float, ...]], *, cabinet: bool = False,
+                 extra_blocks: tuple[int, int] = DISTRACTOR_BLOCKS,
+                 extra_lines: tuple[int, int] = DISTRACTOR_LINES,
+                 drawer_openings: Mapping[str, float] | None = None) -> SceneLayout:
+    """A layout with the hand-placed ``poses`` ("blue block" → (x, y)) plus distractors."""
+    return SceneLayout(
+        blocks=tuple(colour(n) for n in poses if n.endswith("block")),
+        lines=tuple(colour(n) for n in poses if n.endswith("line")),
+        extra_blocks=extra_blocks, extra_lines=extra_lines, cabinet=cabinet,
+        drawer_openings=dict(drawer_openings or {}), poses=dict(poses))
+
+
+def segment_clear(a: tuple[float, float], b: tuple[float, float], radius: float,
+                  step: float = 0.04) -> list[tuple[tuple[float, float], float]]:
+    """Keep-clear discs along the segment a → b [m] (a path a push or a motion needs)."""
+    n = max(2, int(np.ceil(np.hypot(b[0] - a[0], b[1] - a[1]) / step)) + 1)
+    return [((float(a[0] + t * (b[0] - a[0])), float(a[1] + t * (b[1] - a[1]))), radius)
+            for t in np.linspace(0.0, 1.0, n)]
+
+
+def one_subtask(progs: Programs, instruction: str, subtask: str, *, reset: bool) -> Programs:
+    """Planner code: one composer sub-task (then back to the default pose when ``reset``)."""
+    lines = [f"composer('{subtask}')"] + (["composer('back to default pose')"] if reset else [])
+    progs.add("planner", instruction, *lines)
+    if reset:
+        progs.add("composer", "back to default pose", "reset_to_default_pose()")
+    return progs
+
+
+def gripper_composer(progs: Programs, subtask: str, maps: Mapping[str, str]) -> Programs:
+    """Composer code moving the gripper with the given map queries ("affordance" → query)."""
+    lines = ["movable = parse_query_obj('gripper')"]
+    for kind, query in maps.items():
+        lines.append(f"{kind}_map = get_{kind}_map('{query}')")
+    args = ", ".join(f"{k}_map={k}_map" for k in maps)
+    lines.append(f"execute(movable, {args})")
+    return progs.add("composer", subtask, *lines)
+
+
+#: Where the end effector starts each episode (the robot's rest pose), x, y [m].
+EE_START_XY = (-0.23, 0.0)
+
+
+def toward(a: tuple[float, float], b: tuple[float, float], r: float,
+           lateral: float = 0.0) -> tuple[float, float]:
+    """The point ``r`` metres from ``a`` toward ``b`` (shifted ``lateral`` m to its left)."""
+    d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    u = d / max(float(np.linalg.norm(d)), 1e-9)
+    n = np.array([u[1], -u[0]])
+    p = np.asarray(a, dtype=float) + r * u + lateral * n
+    return float(p[0]), float(p[1])
+
+
+def place_query(place_name: str, height_cm: float) -> str:
+    """The affordance query for a point above a table place."""
+    return f"a point {height_cm:g}cm above the {place_name}"

@@ -1,0 +1,66 @@
+"""Task "push the [obj] to the [pos] while staying away from [obstacle]" (Object Interactions).
+
+[obstacle] takes its values from the block list (App. A.5 gives no separate list). Reset: as
+"push the [obj] to the [pos]", with the obstacle block beside the middle of the straight push,
+7–10 cm off it (closer, the pushing primitive's
+straight approach moves can brush it). Success: the block ends at the place, its centre stays at least
+``obstacle_clearance_m`` from the obstacle's centre the whole time, and the obstacle moves at most
+``moved_max_m``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from voxposer.bench.config import Tolerances
+from voxposer.bench.measures import block_at_place, max_displacement
+from voxposer.bench.programs import Programs
+from voxposer.bench.regions import get_place
+from voxposer.bench.task import BenchTask, Verdict
+from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clear, toward
+from voxposer.bench.tasks.push_to_pos import push_programs, push_start
+from voxposer.bench.trace import Trace
+from voxposer.envs.layout import SceneLayout
+
+
+class PushAvoidObstacle(BenchTask):
+    name = "push_to_pos_avoid_obstacle"
+    category = "Object Interactions"
+    template = "push the [obj] to the [pos] while staying away from [obstacle]"
+    paper_row = "push the [obj] to the [pos] while staying away from [obstacle]"
+
+    def instruction(self, attrs: dict[str, str]) -> str:
+        return super().instruction(attrs).replace("away from ", "away from the ")
+
+    def layout(self, rng: np.random.Generator, attrs: dict[str, str]) -> SceneLayout:
+        target = get_place(attrs["pos"]).point
+        start = push_start(rng, get_place(attrs["pos"]), Tolerances())
+        half = 0.5 * float(np.hypot(target[0] - start[0], target[1] - start[1]))
+        side = 1.0 if rng.uniform() < 0.5 else -1.0
+        obstacle = toward(start, target, half, side * float(rng.uniform(0.07, 0.10)))
+        return block_layout({attrs["obj"]: start, attrs["obstacle"]: obstacle})
+
+    def keep_clear(self, world: Any, attrs: dict[str, str]
+                   ) -> list[tuple[tuple[float, float], float]]:
+        start = tuple(world.object_position(attrs["obj"])[:2])
+        return segment_clear(start, get_place(attrs["pos"]).point, 0.12)
+
+    def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
+        pos = world.object_position(attrs["obj"])
+        ok, why = block_at_place(pos, get_place(attrs["pos"]), tol)
+        gap = np.linalg.norm(trace.objects[attrs["obj"]][:, :2]
+                             - trace.objects[attrs["obstacle"]][:, :2], axis=1)
+        closest = float(np.min(gap))
+        moved = max_displacement(trace, attrs["obstacle"])
+        ok = ok and closest >= tol.obstacle_clearance_m and moved <= tol.moved_max_m
+        return Verdict(ok, f"{why}; closest {closest * 100:.1f} cm to the {attrs['obstacle']}, "
+                       f"which moved {moved * 100:.1f} cm",
+                       {"closest": closest, "obstacle_moved": moved})
+
+    def reference(self, attrs: dict[str, str]) -> Programs:
+        obj, place, obstacle = attrs["obj"], get_place(attrs["pos"]), attrs["obstacle"]
+        subtask = f"push the {obj} to the {place.name} while staying away from the {obstacle}"
+        progs = one_subtask(Programs(), self.instruction(attrs), subtask, reset=True)
+        return push_programs(progs, obj, place, avoid=obstacle)

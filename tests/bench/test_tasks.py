@@ -1,0 +1,251 @@
+"""Every registered task: deterministic reset, not complete at reset, and a success check that
+accepts a constructed success state and rejects constructed near-misses (no LLM, no planner)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from voxposer.bench import TASKS, Tolerances, get_task, reset_episode
+from voxposer.bench.attributes import ATTRIBUTES, DEIXIS_DRAWER
+from voxposer.bench.programs import Programs
+from voxposer.bench.regions import PLACES, get_place
+from voxposer.bench.trace import Trace
+from voxposer.errors import ConfigError
+
+TOL = Tolerances()
+CASES = [(name, split) for name in TASKS for split in ("seen", "unseen")]
+
+
+def _trace(ee: list, objects: dict | None = None, dt: float = 0.02, gripper=None) -> Trace:
+    ee = np.asarray(ee, dtype=float).reshape(-1, 3)
+    t = np.arange(len(ee)) * dt
+    g = np.zeros(len(ee)) if gripper is None else np.asarray(gripper, float)
+    objs = {k: np.broadcast_to(np.asarray(v, float), ee.shape).copy() if np.ndim(v) == 1
+            else np.asarray(v, float) for k, v in (objects or {}).items()}
+    return Trace(t, ee, g, objs)
+
+
+def _line(a, b, n: int = 60) -> np.ndarray:
+    return np.linspace(np.asarray(a, float), np.asarray(b, float), n)
+
+
+def test_fourteen_attribute_slots_are_the_papers() -> None:
+    assert ATTRIBUTES["dist"]["unseen"] == ("4", "6", "8", "10")
+    assert ATTRIBUTES["obstacle"] == ATTRIBUTES["obj"]
+    assert len(TASKS) == 13
+    assert set(ATTRIBUTES["pos"]["seen"] + ATTRIBUTES["pos"]["unseen"]) <= set(PLACES)
+
+
+def test_unknown_task_lists_the_known_ones() -> None:
+    with pytest.raises(ConfigError, match="push_to_pos"):
+        get_task("fly to the moon")
+
+
+@pytest.mark.parametrize(("name", "split"), CASES)
+def test_reset_is_deterministic_and_not_complete(world, name: str, split: str) -> None:
+    task = get_task(name)
+    a = reset_episode(task, world, split, 3)
+    state_a = {n: world.object_position(n).copy() for n in world.object_names
+               if n.endswith(("block", "line"))}
+    b = reset_episode(task, world, split, 3)
+    state_b = {n: world.object_position(n).copy() for n in world.object_names
+               if n.endswith(("block", "line"))}
+    assert a.attributes == b.attributes and a.instruction == b.instruction
+    assert state_a.keys() == state_b.keys()
+    for n in state_a:
+        np.testing.assert_allclose(state_a[n], state_b[n], atol=1e-9)
+    assert set(a.attributes.values()) <= {v for slot in task.slots for v in ATTRIBUTES[slot][split]}
+    assert task.reset_problem(world, a.attributes, TOL) is None  # not complete, nothing in the way
+    entries = task.reference(a.attributes).entries()
+    assert {e["lmp"] for e in entries} >= {"planner", "composer", "parse_query_obj"}
+
+
+def _setup(world, name: str, split: str = "seen", seed: int = 0):
+    task = get_task(name)
+    setup = reset_episode(task, world, split, seed)
+    return task, setup.attributes
+
+
+def _set_block(world, name: str, xyz) -> None:
+    adr = world.model.joint(f"{name.split()[0]}_block_joint").qposadr[0]
+    world.data.qpos[adr:adr + 3] = xyz
+    world.data.qvel[:] = 0
+    import mujoco
+
+    mujoco.mj_forward(world.model, world.data)
+
+
+# ------------------------------------------------------------- constructed success / near-miss
+def test_move_to_preposition(world) -> None:
+    task, attrs = _setup(world, "move_to_preposition")
+    attrs = {"preposition": "left of", "obj": attrs["obj"]}
+    b = world.object_position(attrs["obj"])
+    good = b + [0, -0.08, 0.01]
+    assert task.check(world, _trace([good]), attrs, TOL).success
+    assert not task.check(world, _trace([b + [0, 0.08, 0.01]]), attrs, TOL).success  # right
+    assert not task.check(world, _trace([b + [0, -0.2, 0.01]]), attrs, TOL).success  # too far
+    top = {"preposition": "top of", "obj": attrs["obj"]}
+    assert task.check(world, _trace([b + [0, 0, 0.08]]), top, TOL).success
+    assert not task.check(world, _trace([b + [0.05, 0, 0.08]]), top, TOL).success
+
+
+def test_staying_on_preposition(world) -> None:
+    task, _ = _setup(world, "move_to_pos_staying_on_preposition")
+    obj = "blue block"
+    b = np.array([-0.1, 0.2, 0.025])
+    attrs = {"pos": "left side of the table", "preposition": "left of", "obj": obj}
+    end = np.array([*get_place(attrs["pos"]).point, 0.05])
+    path = _line([-0.23, 0.0, 0.47], end)
+    assert task.check(world, _trace(path, {obj: b}), attrs, TOL).success
+    detour = path.copy()
+    detour[20:30, 1] = 0.22  # crosses to the right of the block's left face
+    assert not task.check(world, _trace(detour, {obj: b}), attrs, TOL).success
+    assert not task.check(world, _trace(path[:30], {obj: b}), attrs, TOL).success  # not there
+
+
+def test_velocity_near_obj(world) -> None:
+    task, attrs = _setup(world, "move_to_pos_velocity_near_obj")
+    obj = attrs["obj"]
+    attrs = {**attrs, "pos": "back left corner of the table", "dist": "10",
+             "velocity": "a quarter of the speed"}
+    end = np.array([*get_place(attrs["pos"]).point, 0.05])
+    block = end + [0.15, 0.0, -0.025]
+    slow = _line(end + [0.4, 0, 0], end, 400)  # 0.4 m in 8 s: 0.05 m/s = 0.2x
+    fast = _line(end + [0.4, 0, 0], end, 40)  # 0.5 m/s = 2x
+    assert task.check(world, _trace(slow, {obj: block}), attrs, TOL).success
+    verdict = task.check(world, _trace(fast, {obj: block}), attrs, TOL)
+    assert not verdict.success and verdict.metrics["speed_ratio"] > 1.5
+    assert not task.check(world, _trace(slow[:200], {obj: block}), attrs, TOL).success
+
+
+def test_close_drawer(world) -> None:
+    task, attrs = _setup(world, "close_drawer")
+    which = DEIXIS_DRAWER[attrs["deixis"]]
+    assert world.drawer_opening(which) > 0.09
+    joint = world.model.joint(f"{which}_drawer_joint").qposadr[0]
+    world.data.qpos[joint] = 0.005
+    assert task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    world.data.qpos[joint] = 0.03
+    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+
+
+def test_push_along_line(world) -> None:
+    task, attrs = _setup(world, "push_along_line")
+    c = world.object_position(attrs["line"])
+    yaw = world.object_yaw(attrs["line"])
+    u = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+    n = np.array([-u[1], u[0], 0.0])
+    start = c - 0.17 * u
+    along = _line(start, c + 0.02 * u)
+    ee = np.zeros_like(along)
+    assert task.check(world, _trace(ee, {attrs["obj"]: along}), attrs, TOL).success
+    wobble = along + 0.06 * n * np.sin(np.linspace(0, np.pi, len(along)))[:, None]
+    assert not task.check(world, _trace(ee, {attrs["obj"]: wobble}), attrs, TOL).success
+    short = _line(start, start + 0.04 * u)
+    assert not task.check(world, _trace(ee, {attrs["obj"]: short}), attrs, TOL).success
+
+
+def test_grasp_at_velocity(world) -> None:
+    task, attrs = _setup(world, "grasp_at_velocity")
+    attrs = {**attrs, "velocity": "faster speed"}
+    obj = attrs["obj"]
+    world.close_gripper()  # fingers close on nothing: opening ~0 → not held
+    b = world.object_position(obj)
+    approach = _line([-0.23, 0, 0.47], b, 25)  # ~0.5 m in 0.5 s: 4x
+    trace = _trace(approach, {obj: b})
+    assert not task.check(world, trace, attrs, TOL).success  # nothing held
+    _set_block(world, obj, world.get_ee_pose()[0])
+    verdict = task.check(world, trace, attrs, TOL)
+    assert "fingers" in verdict.reason
+
+
+def test_drop_to_pos(world) -> None:
+    task, attrs = _setup(world, "drop_to_pos")
+    place = get_place(attrs["pos"])
+    obj = attrs["obj"]
+    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    _set_block(world, obj, [*place.point, 0.025])
+    assert task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    _set_block(world, obj, [place.point[0], place.point[1] + 0.3 * (1 if place.point[1] < 0
+                                                                      else -1), 0.025])
+    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+
+
+def test_push_stay_on_region(world) -> None:
+    task, _ = _setup(world, "push_stay_on_region")
+    obj = "blue block"
+    attrs = {"obj": obj, "region": "right side of the table"}
+    path = _line([-0.25, 0.28, 0.025], [-0.05, 0.28, 0.025])
+    assert task.check(world, _trace(np.zeros_like(path), {obj: path}), attrs, TOL).success
+    leaves = path.copy()
+    leaves[30, 1] = 0.10
+    assert not task.check(world, _trace(np.zeros_like(path), {obj: leaves}), attrs, TOL).success
+    still = np.repeat(path[:1], 10, axis=0)
+    assert not task.check(world, _trace(np.zeros_like(still), {obj: still}), attrs, TOL).success
+
+
+def test_move_to_region(world) -> None:
+    task, _ = _setup(world, "move_to_region")
+    attrs = {"region": "back side of the table"}
+    assert task.check(world, _trace([[-0.42, 0.1, 0.06]]), attrs, TOL).success
+    assert not task.check(world, _trace([[-0.30, 0.1, 0.06]]), attrs, TOL).success
+    assert not task.check(world, _trace([[-0.42, 0.1, 0.30]]), attrs, TOL).success  # too high
+
+
+def test_min_distance(world) -> None:
+    task, _ = _setup(world, "move_to_pos_min_distance")
+    obj = "blue block"
+    attrs = {"pos": "front left corner of the table", "dist": "7", "obj": obj}
+    end = np.array([*get_place(attrs["pos"]).point, 0.05])
+    path = _line([-0.23, 0, 0.47], end)
+    far = path[30] + [0, 0.10, -0.05]
+    near = path[30] + [0, 0.05, 0.0]
+    assert task.check(world, _trace(path, {obj: far}), attrs, TOL).success
+    assert not task.check(world, _trace(path, {obj: near}), attrs, TOL).success
+
+
+def test_velocity_in_region(world) -> None:
+    task, _ = _setup(world, "move_to_pos_velocity_in_region")
+    attrs = {"pos": "right side of the table", "velocity": "3x speed",
+             "region": "right side of the table"}
+    end = np.array([-0.2, 0.28, 0.05])
+    start = np.array([-0.2, -0.1, 0.05])
+    fast = _line(start, end, 20)  # 0.38 m in 0.4 s ≈ 3.8x
+    slow = _line(start, end, 80)  # ≈ 0.95x
+    assert task.check(world, _trace(fast), attrs, TOL).success
+    assert not task.check(world, _trace(slow), attrs, TOL).success
+
+
+def test_push_avoid_obstacle(world) -> None:
+    task, attrs = _setup(world, "push_to_pos_avoid_obstacle")
+    obj, obstacle = attrs["obj"], attrs["obstacle"]
+    attrs = {**attrs, "pos": "back right corner of the table"}
+    point = np.array([*get_place(attrs["pos"]).point, 0.025])
+    _set_block(world, obj, point)
+    path = _line([-0.1, 0.0, 0.025], point)
+    mid = path[30]
+    d = path[-1] - path[0]
+    n = np.array([-d[1], d[0], 0.0]) / np.linalg.norm(d[:2])
+    trace = _trace(np.zeros_like(path), {obj: path, obstacle: mid + 0.1 * n})
+    verdict = task.check(world, trace, attrs, TOL)
+    assert verdict.success, verdict.reason
+    close = _trace(np.zeros_like(path), {obj: path, obstacle: mid + 0.04 * n})
+    assert not task.check(world, close, attrs, TOL).success
+
+
+def test_push_to_pos(world) -> None:
+    task, attrs = _setup(world, "push_to_pos")
+    obj = attrs["obj"]
+    place = get_place(attrs["pos"])
+    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    _set_block(world, obj, [*place.point, 0.025])
+    assert task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    _set_block(world, obj, [*place.point, 0.2])  # over the place but not resting
+    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+
+
+def test_programs_add_object_entries() -> None:
+    progs = Programs().add("composer", "q", "x = parse_query_obj('blue block')")
+    lmps = {(e["lmp"], e["query"]) for e in progs.entries()}
+    assert ("parse_query_obj", "blue block") in lmps
