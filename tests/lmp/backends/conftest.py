@@ -19,8 +19,10 @@ from pathlib import Path
 
 import pytest
 
-from voxposer.lmp.backends.config import available_cores, default_model_dir
+from voxposer.lmp.backends.config import available_cores, configure_openmp, default_model_dir
 from voxposer.lmp.backends.default_model import DEFAULT_MODEL, installed_path
+
+configure_openmp()  # before anything imports llama_cpp (libgomp reads it once, when loaded)
 
 
 def free_port() -> int:
@@ -55,7 +57,9 @@ def llama_server(
         "--n_ctx", "2048", "--n_threads", str(available_cores()),
     ]  # fmt: skip
     log_file = open(log_path, "w")  # a file, not a pipe: a full pipe would block the server
-    proc = subprocess.Popen(cmd, stdout=log_file, stderr=subprocess.STDOUT)
+    env = dict(os.environ)
+    configure_openmp(env)
+    proc = subprocess.Popen(cmd, stdout=log_file, stderr=subprocess.STDOUT, env=env)
     base = f"http://127.0.0.1:{port}/v1"
     deadline = time.monotonic() + 180
     try:

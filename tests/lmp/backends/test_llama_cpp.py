@@ -111,6 +111,12 @@ def test_prefix_is_evaluated_once_then_reused(default_model_path: Path, tmp_path
     assert restored.text == first.text
     fresh.close()
 
+    # warming ahead of time (e.g. in a setup step) restores without generating
+    warmed = backend(default_model_path, store_dir)
+    assert warmed.warm_prefix(request("# Query: anything"))["prefix"] == "disk"
+    assert warmed.complete(request("# Query: lift the bowl by 4 cm.")).extra["prefix"] == "live"
+    warmed.close()
+
 
 @pytest.mark.slow
 def test_requests_without_prefix_id_are_not_persisted(

@@ -115,7 +115,9 @@ def test_api_key_is_sent_from_the_config_variable(
     assert stub_server.headers[0]["authorization"] == "Bearer sk-test-123"
 
 
-def test_missing_key_still_works_for_local_servers(stub_server: StubServer, clean_env: None) -> None:
+def test_missing_key_still_works_for_local_servers(
+    stub_server: StubServer, clean_env: None
+) -> None:
     stub_server.script = [(200, chat_body("fine"), {}, 0.0)]
     config = LLMConfig(backend="openai", model="m", base_url=stub_server.url, cache=False)
     assert make_backend(config).complete(REQUEST).text == "fine"

