@@ -192,8 +192,42 @@ def test_start_inside_an_obstacle_can_leave_it() -> None:
         ({"savgol_window": 10}, "savgol_window"),
         ({"waypoint_spacing_m": 0.0}, "waypoint_spacing_m"),
         ({"length_weight": -1.0}, "length_weight"),
+        ({"grasp_approach_m": -0.01}, "grasp_approach_m"),
     ],
 )
 def test_planner_config_rejects_bad_values(kwargs, match) -> None:
     with pytest.raises(ConfigError, match=match):
         PlannerConfig(**kwargs)
+
+
+def _grasp_plan(start: list[float], config: PlannerConfig | None = None):
+    grid = VoxelGrid((0, 0, 0), (1, 1, 1))
+    api = ValueMapAPI(grid)
+    target = grid.voxel_to_world([50, 50, 5])
+    aff = api.get_empty_affordance_map()
+    aff[50, 50, 5] = 1
+    gripper = api.get_empty_gripper_map()
+    api.set_voxel_by_radius(gripper, (50, 50, 5), 1, 1)  # close only at the target: a grasp
+    plan = PathPlanner(grid, config).plan(aff, np.array(start), gripper_map=gripper)
+    return plan.trajectory.positions, target
+
+
+def test_a_grasp_ends_with_a_straight_descent_onto_the_target() -> None:
+    pos, target = _grasp_plan([0.2, 0.3, 0.4])
+    np.testing.assert_allclose(pos[-1], target, atol=1e-9)
+    near = np.linalg.norm(pos[:, :2] - target[:2], axis=1) < 0.06
+    low = pos[:, 2] < target[2] + 0.06 - 1e-9
+    # nothing comes within the fingers' span of the target from the side below the descent ...
+    assert np.all(np.linalg.norm(pos[near & low, :2] - target[:2], axis=1) < 1e-6)
+    # ... and the descent is 6 cm long
+    assert (near & low).sum() >= 5
+    slanted, _ = _grasp_plan([0.2, 0.3, 0.4], PlannerConfig(grasp_approach_m=0.0))
+    assert np.linalg.norm(slanted[slanted[:, 2] < target[2] + 0.03, :2] - target[:2], axis=1).max() > 0.005
+
+
+def test_a_grasp_from_above_the_target_goes_straight_down() -> None:
+    pos, target = _grasp_plan([0.505, 0.505, 0.3])
+    np.testing.assert_allclose(pos[-1], target, atol=1e-9)
+    direction = (pos[-1] - pos[0]) / np.linalg.norm(pos[-1] - pos[0])
+    off_line = np.linalg.norm(np.cross(pos - pos[0], direction), axis=1)
+    assert off_line.max() < 1e-9

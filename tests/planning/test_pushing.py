@@ -1,9 +1,11 @@
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 from voxposer.envs.synthetic import box_surface_points
 from voxposer.errors import ConfigError, PlanningError
 from voxposer.planning.pushing import (
+    PushAction,
     PushConfig,
     push_waypoints,
     random_shooting,
@@ -34,7 +36,7 @@ def test_mpc_pushes_towards_the_path_and_contacts_the_rear_face(heading: float) 
     # contact on the face opposite the push, at push height
     rear = CENTRE - u * (0.025 / max(abs(u[0]), abs(u[1])))
     assert np.linalg.norm(action.contact[:2] - rear[:2]) < 0.03
-    assert action.contact[2] == pytest.approx(0.02)
+    assert action.contact[2] == pytest.approx(PushConfig().contact_height_m)
 
 
 def test_mpc_respects_a_sliding_axis() -> None:
@@ -73,3 +75,27 @@ def test_bad_push_input() -> None:
         random_shooting(np.zeros((0, 3)), np.zeros((2, 3)), np.random.default_rng(0))
     with pytest.raises(ConfigError, match="min_distance_m"):
         PushConfig(min_distance_m=0.2, max_distance_m=0.1)
+
+
+def _straight_push_with_obstacle(obstacle: NDArray[np.float64] | None) -> PushAction:
+    grid = VoxelGrid((0, 0, 0), (1, 1, 1))
+    aff = ValueMapAPI(grid).get_empty_affordance_map()
+    aff[tuple(grid.world_to_voxel([0.8, 0.5, 0.025]))] = 1
+    occ = None if obstacle is None else grid.points_to_occupancy(obstacle)
+    cmap = compose_cost_map(grid, aff, CENTRE, occupancy=occ)
+    straight = CENTRE + np.linspace(0, 0.3, 31)[:, None] * np.array([1.0, 0, 0])
+    return random_shooting(BLOCK, straight, np.random.default_rng(4), cost_map=cmap)
+
+
+def test_hand_lies_across_the_push_unless_that_sweeps_it_through_an_obstacle() -> None:
+    free = _straight_push_with_obstacle(None)
+    assert abs(free.hand_axis @ free.direction) < 0.2  # flat contact: fingers across the push
+    # a 3 cm box 9 cm beside the push: the hand's underside (≈ 5.2 cm high) passes above it
+    low = box_surface_points(np.array([0.525, 0.565, 0.0]), np.array([0.575, 0.615, 0.03]))
+    assert abs(_straight_push_with_obstacle(low).hand_axis[0]) < 0.2
+    # a 12 cm box there: the hand (±10.5 cm along its finger axis) would sweep through it, so it
+    # turns along the push instead
+    tall = box_surface_points(np.array([0.525, 0.565, 0.0]), np.array([0.575, 0.615, 0.12]))
+    turned = _straight_push_with_obstacle(tall)
+    assert turned.direction[0] > 0.9
+    assert abs(turned.hand_axis @ turned.direction) > 0.8

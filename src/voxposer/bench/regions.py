@@ -8,7 +8,13 @@ table* x ∈ [−0.50, 0.13], y ∈ [−0.38, 0.38]:
 * a **corner** is a point inset ≈ 8–12 cm from the reachable table's corner; being "at" it means
   a horizontal distance below ``Tolerances.corner_radius_m``;
 * a **side** is a band of the table along that edge (half-plane): right y ≥ 0.15, left y ≤ −0.15,
-  front x ≥ −0.08, back x ≤ −0.35. Each side also has a target point well inside it.
+  front x ≥ −0.08, back x ≤ −0.31. Each side also has a target point well inside it.
+
+The back side's point (−0.38, 0) is nearer the table's middle than the back corners' x: straight
+in front of the base the Panda cannot hold its hand top-down between x ≈ −0.40 and the base at
+heights ≈ 0.18–0.30 m (the elbow is fully folded, joint 4 at its limit), so a place at x = −0.42
+could only be reached from below that pocket and a carry or a descent from the ready pose
+stalled on its boundary. Band and point keep the same 7 cm margin as before.
 
 The LMP prompts' ``point_on(table, 'right side')`` (20 % in from the table edge, (−0.2, 0.3)) lies
 inside these sides; the reference programs aim at :attr:`Place.point` through fractions of the
@@ -82,7 +88,7 @@ PLACES: Final[dict[str, Place]] = {
         _side("right side of the table", 1, +1, 0.15, (-0.20, 0.28)),
         _side("left side of the table", 1, -1, -0.15, (-0.20, -0.28)),
         _side("front side of the table", 0, +1, -0.08, (0.05, 0.0)),
-        _side("back side of the table", 0, -1, -0.35, (-0.42, 0.0)),
+        _side("back side of the table", 0, -1, -0.31, (-0.38, 0.0)),
     )
 }
 

@@ -16,11 +16,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
 
 from voxposer.control.scene_occupancy import scene_occupancy
 from voxposer.errors import PlanningError, UnreachablePoseError
 from voxposer.planning.pushing import PushAction, push_waypoints, random_shooting
-from voxposer.valuemaps.maps import pointat2quat
+from voxposer.valuemaps.maps import TOP_DOWN_QUAT, pointat2quat
 
 if TYPE_CHECKING:
     from voxposer.control.executor import ClosedLoopExecutor, ExecutionResult, MapSource
@@ -106,9 +107,12 @@ def run_object(
             )
         previous = centre
         try:
-            push(world, action, sideways=axis is not None)
+            top = float(np.asarray(entity["points"])[:, 2].max())
+            push(world, action, sideways=axis is not None, object_top=top)
         except UnreachablePoseError as err:
+            # the arm did not move: not a push that failed to make progress (max_pushes caps it)
             log.info("push unreachable (%s); sampling another", err)
+            previous = None
         if loop.timed_out(result):
             return loop.finish(
                 result,
@@ -120,13 +124,47 @@ def run_object(
     )
 
 
-def push(world: Any, action: PushAction, sideways: bool) -> None:
+#: With the hand top-down, the Panda's wrist joint (joint 7, range ±2.9 rad) sits near the middle
+#: of its range when the hand's yaw away from :data:`TOP_DOWN_QUAT` is the arm's azimuth (the
+#: direction from the base to the hand) plus this [rad] (joint 7 ≈ 0.785 + azimuth − yaw).
+MID_WRIST_YAW = np.pi / 4
+
+
+def top_down_quat(hand_axis: NDArray[np.float64], azimuth: float = 0.0) -> NDArray[np.float64]:
+    """Top-down hand orientation (x, y, z, w) whose finger axis lies along ``hand_axis``.
+
+    ``hand_axis`` is a table-plane direction, shape (3,). The hand is symmetric under a half
+    turn about its approach axis; of the two yaws, the one that keeps the wrist joint nearest
+    the middle of its range for an arm reaching toward ``azimuth`` [rad] is chosen (yaw 0 =
+    :data:`TOP_DOWN_QUAT`, finger axis along world y).
+    """
+    yaw = float(np.arctan2(hand_axis[1], hand_axis[0])) - np.pi / 2
+    centre = azimuth + MID_WRIST_YAW
+    yaw = centre + (yaw - centre + np.pi / 2) % np.pi - np.pi / 2
+    q = (Rotation.from_euler("z", yaw) * Rotation.from_quat(TOP_DOWN_QUAT)).as_quat()
+    return np.asarray(q if q[3] >= 0 else -q, dtype=np.float64)
+
+
+#: Fingertips below the end-effector point plus a margin: how far above an object's top the
+#: end effector travels between pushes [m].
+TOP_CLEARANCE_M = 0.033
+
+
+def push(world: Any, action: PushAction, sideways: bool, object_top: float | None = None) -> None:
     """The pushing primitive: above → behind the contact → through → back → up.
 
-    Objects are pushed with the hand pointing down; parts (drawers) with the hand pointing along
+    Objects are pushed with the hand pointing down, its long (finger) axis along
+    ``action.hand_axis``, and the hand travels between pushes just above the object's top
+    (``object_top`` [m]; no higher than needed: right in front of the base the arm cannot hold
+    its hand top-down much above 8 cm). Parts (drawers) are pushed with the hand pointing along
     the push, so the forearm stays clear of the cabinet. The gripper is closed first.
     """
-    quat = pointat2quat(action.direction if sideways else [0.0, 0.0, -1.0])
+    base = np.asarray(getattr(getattr(world, "config", None), "robot_base", (0.0, 0.0, 0.0)))
+    reach = action.contact[:2] - base[:2]
+    azimuth = float(np.arctan2(reach[1], reach[0]))
+    quat = pointat2quat(action.direction) if sideways else top_down_quat(action.hand_axis, azimuth)
     world.close_gripper()
-    for k, point in enumerate(push_waypoints(action)):
+    lift = {} if sideways or object_top is None else {
+        "lift_height_m": max(0.03, object_top + TOP_CLEARANCE_M - float(action.contact[2]))}
+    for k, point in enumerate(push_waypoints(action, **lift)):
         world.move_to_pose(point, quat, speed_scale=0.5 if k == 2 else 1.0)

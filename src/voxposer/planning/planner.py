@@ -3,7 +3,8 @@
 Paper Sec. 4 "Motion Planner": only the affordance and avoidance maps enter the optimisation;
 the rotation, velocity and gripper maps are then read along the path. Unlike the paper's
 release (greedy descent, kept here as ``method="greedy"`` for comparison) the path is the
-global lowest-cost one, so an obstacle near the target cannot trap the planner.
+global lowest-cost one, so an obstacle near the target cannot trap the planner. A path that ends
+closing the gripper (a grasp) ends with a straight approach along the hand's approach axis.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
 
 from voxposer.errors import ConfigError, StartBlockedError, TargetUnreachableError
 from voxposer.planning.search import astar, greedy_descent
@@ -38,6 +40,13 @@ class PlannerConfig:
         savgol_polyorder: Savitzky–Golay polynomial order.
         greedy_radius: neighbourhood half-size of the greedy mode [voxels] (release: 2).
         greedy_max_steps: step limit of the greedy mode (release: 300).
+        grasp_approach_m: a path that ends closing the gripper (a grasp) ends with a straight
+            approach along the hand's approach axis from this far before the target [m] (top-down:
+            a vertical descent); 0 disables it.
+        grasp_approach_radius_m: path points within this distance of that approach line and
+            less than ``grasp_approach_m`` before the target are replaced by it [m]; the open
+            fingers span ≈ 9 cm, so a slanted approach within it catches the object's edge and
+            tilts it.
     """
 
     method: PlanMethod = "global"
@@ -48,6 +57,8 @@ class PlannerConfig:
     savgol_polyorder: int = 3
     greedy_radius: int = 2
     greedy_max_steps: int = 300
+    grasp_approach_m: float = 0.06
+    grasp_approach_radius_m: float = 0.06
 
     def __post_init__(self) -> None:
         if self.method not in ("global", "greedy"):
@@ -72,6 +83,10 @@ class PlannerConfig:
             )
         if self.greedy_radius < 1 or self.greedy_max_steps < 1:
             raise ConfigError("PlannerConfig.greedy_radius and greedy_max_steps must be >= 1")
+        for name in ("grasp_approach_m", "grasp_approach_radius_m"):
+            value = getattr(self, name)
+            if not np.isfinite(value) or value < 0:
+                raise ConfigError(f"PlannerConfig.{name} must be >= 0 [m]; got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -166,15 +181,24 @@ class PathPlanner:
             reached = True
         t2 = time.perf_counter()
         points = self._waypoints(cmap, path, reached)
-        traj = extract_trajectory(
-            points,
-            self.grid,
-            rotation_map=rotation_map,
-            velocity_map=velocity_map,
-            gripper_map=gripper_map,
-            default_quat=np.asarray(current_quat, dtype=np.float64),
-            default_gripper=current_gripper,
-        )
+
+        def read_maps(positions: NDArray[np.float64]) -> Trajectory:
+            return extract_trajectory(
+                positions,
+                self.grid,
+                rotation_map=rotation_map,
+                velocity_map=velocity_map,
+                gripper_map=gripper_map,
+                default_quat=np.asarray(current_quat, dtype=np.float64),
+                default_gripper=current_gripper,
+            )
+
+        traj = read_maps(points)
+        grasping = reached and current_gripper < 0.5 and traj.gripper[-1] >= 0.5
+        if grasping and cfg.grasp_approach_m > 0:  # approach what the gripper closes on
+            approach = self._descend_onto(points, traj.quaternions[-1])
+            if not collides(approach, self.grid, cmap.fine_obstacles):
+                traj = read_maps(approach)
         t3 = time.perf_counter()
         timings = {
             "postprocess": (t1 - t0) * 1e3,
@@ -235,6 +259,32 @@ class PathPlanner:
         if not collides(smoothed, self.grid, cmap.fine_obstacles):
             return smoothed
         return raw
+
+    def _descend_onto(
+        self, points: NDArray[np.float64], quat: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """``points`` (shape (N, 3), [m]) ending with a straight approach onto the last one
+        along the hand's approach axis (local +z of orientation ``quat``, (x, y, z, w)).
+
+        Points inside the approach cylinder (within ``grasp_approach_radius_m`` of the approach
+        line, less than ``grasp_approach_m`` before the target along it) are dropped from the
+        first one that enters it; the path then goes to the point ``grasp_approach_m`` before the
+        target and straight on to it. Once the start is on the approach line (within 1 cm) the
+        path is the straight line to the target.
+        """
+        cfg = self.config
+        end = points[-1]
+        axis = Rotation.from_quat(quat).apply([0.0, 0.0, 1.0])
+        rel = points - end
+        before = -(rel @ axis)  # distance before the target along the approach [m]
+        radial = np.linalg.norm(rel + before[:, None] * axis, axis=1)
+        if radial[0] <= 0.01 and before[0] >= 0.0:
+            return resample(np.vstack([points[0], end]), cfg.waypoint_spacing_m)
+        inside = (radial < cfg.grasp_approach_radius_m) & (before < cfg.grasp_approach_m)
+        first = int(np.argmax(inside)) if inside.any() else len(points) - 1
+        head = points[: max(first, 1)]
+        pre = end - cfg.grasp_approach_m * axis
+        return resample(np.vstack([head, pre, end]), cfg.waypoint_spacing_m)
 
     def _target_point(self, cmap: CostMap, coarse_voxel: NDArray[np.int64]) -> NDArray[np.float64]:
         """The fine target voxel inside the reached coarse voxel nearest its centre [m]."""

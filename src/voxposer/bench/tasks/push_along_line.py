@@ -1,9 +1,10 @@
 """Task "push the [obj] along the [line]" (Object Interactions).
 
 Reset: the line lies in the middle of the table at a random yaw; the block starts on the line's
-axis 6.5–8 cm beyond one end (6.5–8 cm: the layout keeps blocks clear of lines). Success: the block's centre stays within ``line_band_m`` of the
-line's axis the whole time, advances at least ``line_progress_m`` along it and ends on the line
-(between its ends).
+axis 6.5–8 cm beyond one end (6.5–8 cm: the layout keeps blocks clear of lines), the end in front
+of x = −0.36 m where one of them is behind it. Success: the block's centre stays within
+``line_band_m`` of the line's axis the whole time, advances at least ``line_progress_m`` along it
+and ends on the line (between its ends).
 """
 
 from __future__ import annotations
@@ -23,6 +24,10 @@ from voxposer.envs.layout import SceneLayout
 
 #: Line length [m] (``WorldConfig.line_length``).
 LINE_LENGTH = 0.20
+#: The block starts at the end of the line in front of this x [m]: pushing a block toward +x
+#: from farther back puts the hand within ≈ 10 cm of the robot's base, where the Panda cannot
+#: hold it top-down above the block (see :mod:`voxposer.bench.regions`).
+BACK_LIMIT_X = -0.36
 
 
 def _axis(yaw: float) -> np.ndarray:
@@ -42,7 +47,10 @@ class PushAlongLine(BenchTask):
         c = np.asarray(sample_xy(rng, (-0.26, -0.15), (-0.04, 0.15)))
         yaw = float(rng.uniform(0.0, math.pi))
         end = 1.0 if rng.uniform() < 0.5 else -1.0
-        start = c + end * _axis(yaw) * (LINE_LENGTH / 2 + float(rng.uniform(0.065, 0.08)))
+        offset = _axis(yaw) * (LINE_LENGTH / 2 + float(rng.uniform(0.065, 0.08)))
+        if c[0] + end * offset[0] < BACK_LIMIT_X:  # the other end: the hand must get behind it
+            end = -end
+        start = c + end * offset
         return block_layout({attrs["line"]: (float(c[0]), float(c[1]), yaw),
                              attrs["obj"]: (float(start[0]), float(start[1]))})
 

@@ -1,0 +1,34 @@
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from voxposer.control.pushing_loop import MID_WRIST_YAW, top_down_quat
+from voxposer.valuemaps import TOP_DOWN_QUAT
+
+
+def _finger_axis(quat_xyzw: np.ndarray) -> np.ndarray:
+    return Rotation.from_quat(quat_xyzw).apply([1.0, 0.0, 0.0])  # fingers close along local x
+
+
+def _yaw(quat_xyzw: np.ndarray) -> float:
+    rel = Rotation.from_quat(quat_xyzw) * Rotation.from_quat(TOP_DOWN_QUAT).inv()
+    return float(rel.as_rotvec()[2])
+
+
+def test_finger_axis_along_world_y_at_the_ready_pose_is_the_top_down_quaternion() -> None:
+    np.testing.assert_allclose(top_down_quat(np.array([0.0, 1.0, 0.0])), TOP_DOWN_QUAT, atol=1e-9)
+    np.testing.assert_allclose(np.abs(_finger_axis(np.array(TOP_DOWN_QUAT))), [0, 1, 0], atol=1e-9)
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.4, 1.2, 2.0, -2.7])
+@pytest.mark.parametrize("azimuth", [-0.9, 0.0, 0.6])
+def test_hand_points_down_with_its_fingers_along_the_axis_and_the_wrist_mid_range(
+    angle: float, azimuth: float
+) -> None:
+    axis = np.array([np.cos(angle), np.sin(angle), 0.0])
+    q = top_down_quat(axis, azimuth)
+    np.testing.assert_allclose(Rotation.from_quat(q).apply([0, 0, 1]), [0, 0, -1], atol=1e-9)
+    assert abs(_finger_axis(q) @ axis) == pytest.approx(1.0, abs=1e-9)
+    # of the two equivalent yaws, the one within a quarter turn of the wrist's mid-range
+    off = (_yaw(q) - azimuth - MID_WRIST_YAW + np.pi) % (2 * np.pi) - np.pi
+    assert abs(off) <= np.pi / 2 + 1e-9
