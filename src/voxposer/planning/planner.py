@@ -22,7 +22,7 @@ from voxposer.planning.search import astar, greedy_descent
 from voxposer.planning.trajectory import Trajectory, collides, extract_trajectory, resample, smooth
 from voxposer.valuemaps.cost import CostMap, CostMapConfig, compose_cost_map
 from voxposer.valuemaps.grid import VoxelGrid
-from voxposer.valuemaps.maps import TOP_DOWN_QUAT
+from voxposer.valuemaps.maps import TOP_DOWN_QUAT, check_value_map
 
 PlanMethod = Literal["global", "greedy"]
 
@@ -182,6 +182,16 @@ class PathPlanner:
         t2 = time.perf_counter()
         points = self._waypoints(cmap, path, reached)
 
+        # validated once here (shape, dtype, NaN/inf), then sampled for each candidate path
+        rotation_map, velocity_map, gripper_map = (
+            None if m is None else check_value_map(kind, m, self.grid)
+            for kind, m in (
+                ("rotation", rotation_map),
+                ("velocity", velocity_map),
+                ("gripper", gripper_map),
+            )
+        )
+
         def read_maps(positions: NDArray[np.float64]) -> Trajectory:
             return extract_trajectory(
                 positions,
@@ -189,6 +199,7 @@ class PathPlanner:
                 rotation_map=rotation_map,
                 velocity_map=velocity_map,
                 gripper_map=gripper_map,
+                checked=True,
                 default_quat=np.asarray(current_quat, dtype=np.float64),
                 default_gripper=current_gripper,
             )

@@ -208,9 +208,13 @@ def random_shooting(
         across_hits = _hand_sweep_hits(contacts, directions, distances, side, cost_map, cfg)
         along_hits = _hand_sweep_hits(contacts, directions, distances, directions, cost_map, cfg)
         along = cfg.tool_collision_weight * along_hits + cfg.along_penalty_m < (
-            cfg.tool_collision_weight * across_hits)
-        score += np.where(along, cfg.tool_collision_weight * along_hits + cfg.along_penalty_m,
-                          cfg.tool_collision_weight * across_hits)
+            cfg.tool_collision_weight * across_hits
+        )
+        score += np.where(
+            along,
+            cfg.tool_collision_weight * along_hits + cfg.along_penalty_m,
+            cfg.tool_collision_weight * across_hits,
+        )
     best = int(np.argmin(score))
     return PushAction(
         contact=contacts[best],
@@ -222,9 +226,14 @@ def random_shooting(
     )
 
 
-def _hand_sweep_hits(contacts: NDArray[np.float64], directions: NDArray[np.float64],
-                     distances: NDArray[np.float64], hand_axes: NDArray[np.float64],
-                     cost_map: CostMap, cfg: PushConfig) -> NDArray[np.int64]:
+def _hand_sweep_hits(
+    contacts: NDArray[np.float64],
+    directions: NDArray[np.float64],
+    distances: NDArray[np.float64],
+    hand_axes: NDArray[np.float64],
+    cost_map: CostMap,
+    cfg: PushConfig,
+) -> NDArray[np.int64]:
     """Samples of the hand's footprint over an obstacle along each push stroke, shape (S,).
 
     The hand's footprint (a ``2 hand_half_length_m`` × ``2 hand_half_width_m`` rectangle, long
@@ -237,8 +246,10 @@ def _hand_sweep_hits(contacts: NDArray[np.float64], directions: NDArray[np.float
     across = np.stack([-hand_axes[:, 1], hand_axes[:, 0], np.zeros(len(hand_axes))], axis=1)
     u = np.linspace(-cfg.hand_half_length_m, cfg.hand_half_length_m, 11)
     v = np.array([-cfg.hand_half_width_m, 0.0, cfg.hand_half_width_m])
-    foot = (u[None, :, None, None] * hand_axes[:, None, None, :]
-            + v[None, None, :, None] * across[:, None, None, :]).reshape(len(hand_axes), -1, 3)
+    foot = (
+        u[None, :, None, None] * hand_axes[:, None, None, :]
+        + v[None, None, :, None] * across[:, None, None, :]
+    ).reshape(len(hand_axes), -1, 3)
     travel = np.stack([np.full_like(distances, -0.05), 0.5 * distances, distances], axis=1)
     centres = contacts[:, None, :] + travel[:, :, None] * directions[:, None, :]  # (S, 3, 3)
     pts = (centres[:, :, None, :] + foot[:, None, :, :]).reshape(len(hand_axes), -1, 3)
@@ -247,7 +258,7 @@ def _hand_sweep_hits(contacts: NDArray[np.float64], directions: NDArray[np.float
     top = np.asarray(grid.shape) - 1
     underside = float(contacts[0, 2]) + cfg.hand_underside_m + 0.003
     k0, k1 = (int(np.clip((z - lo[2]) / res[2], 0, top[2])) for z in (underside, underside + 0.09))
-    columns: NDArray[np.bool_] = np.any(cost_map.fine_obstacles[:, :, k0:k1 + 1], axis=2)
+    columns: NDArray[np.bool_] = np.any(cost_map.fine_obstacles[:, :, k0 : k1 + 1], axis=2)
     ix = np.clip(((pts[..., 0] - lo[0]) / res[0]).astype(np.int64), 0, top[0])
     iy = np.clip(((pts[..., 1] - lo[1]) / res[1]).astype(np.int64), 0, top[1])
     return columns[ix, iy].sum(axis=1)

@@ -101,6 +101,10 @@ def collides(points: NDArray[np.float64], grid: VoxelGrid, obstacles: NDArray[np
     return bool(obstacles[idx[:, 0], idx[:, 1], idx[:, 2]].any())
 
 
+def _checked(kind: str, value_map: NDArray, grid: VoxelGrid, checked: bool) -> NDArray:
+    return value_map if checked else check_value_map(kind, value_map, grid)
+
+
 def extract_trajectory(
     positions: NDArray[np.float64],
     grid: VoxelGrid,
@@ -110,12 +114,14 @@ def extract_trajectory(
     gripper_map: NDArray | None,
     default_quat: NDArray[np.float64],
     default_gripper: float,
+    checked: bool = False,
 ) -> Trajectory:
     """Read the rotation, velocity and gripper maps at each waypoint's voxel.
 
     A map that is None gives its default everywhere (``default_quat``, speed scale 1,
     ``default_gripper``); maps made by :class:`voxposer.valuemaps.ValueMapAPI` hold those
-    defaults wherever the language model did not set a value.
+    defaults wherever the language model did not set a value. ``checked=True`` skips validating
+    the maps' shape, dtype and finiteness (the caller has done it).
 
     Raises:
         InvalidMapError: a map of the wrong shape or with NaN/inf, a zero quaternion, or a
@@ -127,7 +133,7 @@ def extract_trajectory(
     if rotation_map is None:
         quats = np.tile(np.asarray(default_quat, dtype=np.float64), (n, 1))
     else:
-        quats = check_value_map("rotation", rotation_map, grid)[ix, iy, iz].astype(np.float64)
+        quats = _checked("rotation", rotation_map, grid, checked)[ix, iy, iz].astype(np.float64)
     norms = np.linalg.norm(quats, axis=1)
     if np.any(norms < 1e-6):
         bad = vox[int(np.argmin(norms))].tolist()
@@ -138,7 +144,7 @@ def extract_trajectory(
     if velocity_map is None:
         speeds = np.ones(n)
     else:
-        speeds = check_value_map("velocity", velocity_map, grid)[ix, iy, iz].astype(np.float64)
+        speeds = _checked("velocity", velocity_map, grid, checked)[ix, iy, iz].astype(np.float64)
         if np.any(speeds <= 0):
             bad = vox[int(np.argmin(speeds))].tolist()
             raise InvalidMapError(
@@ -147,7 +153,7 @@ def extract_trajectory(
     if gripper_map is None:
         grip = np.full(n, float(default_gripper))
     else:
-        grip = check_value_map("gripper", gripper_map, grid)[ix, iy, iz].astype(np.float64)
+        grip = _checked("gripper", gripper_map, grid, checked)[ix, iy, iz].astype(np.float64)
     return Trajectory(
         positions=positions,
         quaternions=quats,
