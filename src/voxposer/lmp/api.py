@@ -185,4 +185,6 @@ class LMPAPI:
             "get_empty_velocity_map": m.get_empty_velocity_map,
             "get_empty_gripper_map": m.get_empty_gripper_map,
             "grid_shape": tuple(self.grid.shape),
+            "CLOSED": 1.0,  # gripper map values
+            "OPEN": 0.0,
         }
