@@ -222,7 +222,10 @@ def test_a_grasp_ends_with_a_straight_descent_onto_the_target() -> None:
     # ... and the descent is 6 cm long
     assert (near & low).sum() >= 5
     slanted, _ = _grasp_plan([0.2, 0.3, 0.4], PlannerConfig(grasp_approach_m=0.0))
-    assert np.linalg.norm(slanted[slanted[:, 2] < target[2] + 0.03, :2] - target[:2], axis=1).max() > 0.005
+    assert (
+        np.linalg.norm(slanted[slanted[:, 2] < target[2] + 0.03, :2] - target[:2], axis=1).max()
+        > 0.005
+    )
 
 
 def test_a_grasp_from_above_the_target_goes_straight_down() -> None:

@@ -99,3 +99,26 @@ def test_hand_lies_across_the_push_unless_that_sweeps_it_through_an_obstacle() -
     turned = _straight_push_with_obstacle(tall)
     assert turned.direction[0] > 0.9
     assert abs(turned.hand_axis @ turned.direction) > 0.8
+
+
+def test_lazy_hand_sweep_penalty_picks_the_same_push_as_penalising_every_sample() -> None:
+    from voxposer.planning.push_clearance import add_hand_sweep
+
+    grid = VoxelGrid((0, 0, 0), (1, 1, 1))
+    aff = ValueMapAPI(grid).get_empty_affordance_map()
+    aff[tuple(grid.world_to_voxel([0.8, 0.5, 0.025]))] = 1
+    wall = box_surface_points(np.array([0.46, 0.56, 0.0]), np.array([0.62, 0.58, 0.1]))
+    cmap = compose_cost_map(grid, aff, CENTRE, occupancy=grid.points_to_occupancy(wall))
+    rng = np.random.default_rng(4)
+    n = 2000
+    theta = rng.uniform(-np.pi, np.pi, n)
+    dirs = np.stack([np.cos(theta), np.sin(theta), np.zeros(n)], axis=1)
+    side = np.stack([-dirs[:, 1], dirs[:, 0], np.zeros(n)], axis=1)
+    contacts = CENTRE - 0.025 * dirs
+    dist = rng.uniform(0.01, 0.08, n)
+    score = rng.uniform(0, 0.1, n)
+    cfg = PushConfig()
+    lazy, lazy_along = add_hand_sweep(score, contacts, dirs, dist, side, cmap, cfg, first=16)
+    full, full_along = add_hand_sweep(score, contacts, dirs, dist, side, cmap, cfg, first=n)
+    assert np.argmin(lazy) == np.argmin(full) and lazy.min() == full.min()
+    assert lazy_along[np.argmin(lazy)] == full_along[np.argmin(full)]

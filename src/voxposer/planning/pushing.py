@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull, QhullError
 
 from voxposer.errors import ConfigError, PlanningError
+from voxposer.planning.push_clearance import add_hand_sweep
 from voxposer.planning.trajectory import resample
 from voxposer.valuemaps.cost import CostMap
 
@@ -205,16 +206,7 @@ def random_shooting(
         score += cfg.collision_weight * hits
     along = np.zeros(n, dtype=bool)
     if cost_map is not None and axis is None:  # parts are pushed hand-first, not top-down
-        across_hits = _hand_sweep_hits(contacts, directions, distances, side, cost_map, cfg)
-        along_hits = _hand_sweep_hits(contacts, directions, distances, directions, cost_map, cfg)
-        along = cfg.tool_collision_weight * along_hits + cfg.along_penalty_m < (
-            cfg.tool_collision_weight * across_hits
-        )
-        score += np.where(
-            along,
-            cfg.tool_collision_weight * along_hits + cfg.along_penalty_m,
-            cfg.tool_collision_weight * across_hits,
-        )
+        score, along = add_hand_sweep(score, contacts, directions, distances, side, cost_map, cfg)
     best = int(np.argmin(score))
     return PushAction(
         contact=contacts[best],
@@ -224,44 +216,6 @@ def random_shooting(
         score=float(score[best]),
         hand_axis=(directions if along[best] else side)[best],
     )
-
-
-def _hand_sweep_hits(
-    contacts: NDArray[np.float64],
-    directions: NDArray[np.float64],
-    distances: NDArray[np.float64],
-    hand_axes: NDArray[np.float64],
-    cost_map: CostMap,
-    cfg: PushConfig,
-) -> NDArray[np.int64]:
-    """Samples of the hand's footprint over an obstacle along each push stroke, shape (S,).
-
-    The hand's footprint (a ``2 hand_half_length_m`` × ``2 hand_half_width_m`` rectangle, long
-    axis along ``hand_axes``, shape (S, 3)) is sampled on its outline and centre line at the
-    start (5 cm behind the contact, where the primitive lowers the hand), middle and end of the
-    stroke. A sample is over an obstacle when its column holds obstacle voxels (the planner's,
-    not grown by its margin) between the hand's underside and 9 cm above it (the hand's height):
-    a side face or a top face in that band (observed objects are surfaces, hollow inside).
-    """
-    across = np.stack([-hand_axes[:, 1], hand_axes[:, 0], np.zeros(len(hand_axes))], axis=1)
-    u = np.linspace(-cfg.hand_half_length_m, cfg.hand_half_length_m, 11)
-    v = np.array([-cfg.hand_half_width_m, 0.0, cfg.hand_half_width_m])
-    foot = (
-        u[None, :, None, None] * hand_axes[:, None, None, :]
-        + v[None, None, :, None] * across[:, None, None, :]
-    ).reshape(len(hand_axes), -1, 3)
-    travel = np.stack([np.full_like(distances, -0.05), 0.5 * distances, distances], axis=1)
-    centres = contacts[:, None, :] + travel[:, :, None] * directions[:, None, :]  # (S, 3, 3)
-    pts = (centres[:, :, None, :] + foot[:, None, :, :]).reshape(len(hand_axes), -1, 3)
-    grid = cost_map.fine_grid
-    lo, res = grid.bounds_min, grid.resolution
-    top = np.asarray(grid.shape) - 1
-    underside = float(contacts[0, 2]) + cfg.hand_underside_m + 0.003
-    k0, k1 = (int(np.clip((z - lo[2]) / res[2], 0, top[2])) for z in (underside, underside + 0.09))
-    columns: NDArray[np.bool_] = np.any(cost_map.fine_obstacles[:, :, k0 : k1 + 1], axis=2)
-    ix = np.clip(((pts[..., 0] - lo[0]) / res[0]).astype(np.int64), 0, top[0])
-    iy = np.clip(((pts[..., 1] - lo[1]) / res[1]).astype(np.int64), 0, top[1])
-    return columns[ix, iy].sum(axis=1)
 
 
 def push_waypoints(
