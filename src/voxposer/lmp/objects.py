@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Final
+from typing import Any, ClassVar, Final
 
 import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.errors import UnknownObjectError
+from voxposer.perception.field_mapping import FieldMapping
 from voxposer.valuemaps.grid import VoxelGrid
 
 _KEYS: Final = ("name", "position", "aabb", "occupancy", "normal", "position_world", "aabb_world")
@@ -60,7 +61,7 @@ def match_name(query: str, names: Sequence[str]) -> str:
 
 
 @dataclass(frozen=True, eq=False)
-class ObjectView(Mapping[str, Any]):
+class ObjectView(FieldMapping):
     """A detected object in voxel coordinates; also readable like a dict (``obj["position"]``).
 
     Attributes:
@@ -72,6 +73,9 @@ class ObjectView(Mapping[str, Any]):
         position_world: centre [m], shape (3,).
         aabb_world: box [m], shape (2, 3).
     """
+
+    keys_: ClassVar[tuple[str, ...]] = _KEYS
+    noun: ClassVar[str] = "an object"
 
     name: str
     position: NDArray[np.int64]
@@ -98,16 +102,6 @@ class ObjectView(Mapping[str, Any]):
             arr.flags.writeable = False
         return cls(name, *arrays)
 
-    def __getitem__(self, key: str) -> Any:
-        if key not in _KEYS:
-            raise KeyError(f"{key!r}; an object has: {', '.join(_KEYS)}")
-        return getattr(self, key)
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(_KEYS)
-
-    def __len__(self) -> int:
-        return len(_KEYS)
 
     def __repr__(self) -> str:
         return f"ObjectView({self.name!r}, position={self.position.tolist()})"

@@ -6,14 +6,14 @@ geometry comes from the fused point cloud, not from the simulator's body poses.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any, Final
+from typing import Any, ClassVar, Final
 
 import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.errors import ObjectNotVisibleError
+from voxposer.perception.field_mapping import FieldMapping
 from voxposer.perception.point_cloud import PointCloud
 from voxposer.valuemaps.grid import VoxelGrid
 
@@ -21,7 +21,7 @@ _KEYS: Final = ("name", "position", "aabb", "occupancy", "normal", "points", "no
 
 
 @dataclass(frozen=True, eq=False)
-class DetectedObject(Mapping[str, Any]):
+class DetectedObject(FieldMapping):
     """An object found in the point cloud. Also readable like a dict: ``obj["position"]``.
 
     Attributes:
@@ -34,6 +34,9 @@ class DetectedObject(Mapping[str, Any]):
         normals: per-point normals, shape (N, 3).
     """
 
+    keys_: ClassVar[tuple[str, ...]] = _KEYS
+    noun: ClassVar[str] = "a detected object"
+
     name: str
     position: NDArray[np.float64]
     aabb: NDArray[np.float64]
@@ -42,16 +45,6 @@ class DetectedObject(Mapping[str, Any]):
     points: NDArray[np.float64]
     normals: NDArray[np.float64]
 
-    def __getitem__(self, key: str) -> Any:
-        if key not in _KEYS:
-            raise KeyError(f"{key!r}; a detected object has: {', '.join(_KEYS)}")
-        return getattr(self, key)
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(_KEYS)
-
-    def __len__(self) -> int:
-        return len(_KEYS)
 
     def __repr__(self) -> str:
         return (f"DetectedObject(name={self.name!r}, position={np.round(self.position, 3).tolist()}, "
