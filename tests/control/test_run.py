@@ -16,15 +16,41 @@ from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.scene import WorldScene
 
 RECORDINGS = Path(__file__).parent / "recordings" / "tabletop.jsonl"
-
+MOVE_ABOVE_BLUE = "move to the top of the blue block while staying away from the green block"
 
 
 def _run(world: TabletopWorld, instruction: str, seed: int, on_replan=None) -> WorldExecutor:
+    return _run_with_runtime(world, instruction, seed, on_replan)[0]
+
+
+def _run_with_runtime(
+    world: TabletopWorld, instruction: str, seed: int, on_replan=None
+) -> tuple[WorldExecutor, LMPRuntime]:
     executor = WorldExecutor(world, np.random.default_rng(seed), ExecutorConfig(max_time_s=30))
     executor.on_replan = on_replan
     runtime = LMPRuntime(WorldScene(world), ReplayBackend(RECORDINGS), executor)
     runtime.run(instruction)
-    return executor
+    return executor, runtime
+
+
+def _run_cli(
+    out: Path, instruction: str, *extra: str, recordings: Path = RECORDINGS
+) -> tuple[int, dict]:
+    """``voxposer run`` on the replay backend; returns the exit status and summary.json."""
+    code = main(
+        [
+            "run",
+            instruction,
+            "--llm",
+            "replay",
+            "--recordings",
+            str(recordings),
+            "--out",
+            str(out),
+            *extra,
+        ]
+    )
+    return code, json.loads((out / "summary.json").read_text())
 
 
 def test_move_above_blue_while_avoiding_green(world: TabletopWorld) -> None:
@@ -32,7 +58,7 @@ def test_move_above_blue_while_avoiding_green(world: TabletopWorld) -> None:
         blocks=("blue", "green"), poses={"blue block": (0.0, -0.1), "green block": (-0.12, -0.2)}
     )
     world.reset(np.random.default_rng(0), layout)
-    ex = _run(world, "move to the top of the blue block while staying away from the green block", 0)
+    ex = _run(world, MOVE_ABOVE_BLUE, 0)
     (record,) = ex.records
     assert record.result.success, record.result.message
     above_blue = world.object_position("blue block") + [0, 0, 0.08 + 0.025]
@@ -74,11 +100,7 @@ def test_displaced_target_still_succeeds_without_new_llm_calls(world: TabletopWo
         if result.replans == 3 and not displaced:
             displaced.append(world.displace_object(np.random.default_rng(9), "blue block"))
 
-    executor = WorldExecutor(world, np.random.default_rng(3), ExecutorConfig(max_time_s=30))
-    executor.on_replan = disturb
-    backend = ReplayBackend(RECORDINGS)
-    runtime = LMPRuntime(WorldScene(world), backend, executor)
-    runtime.run("move to the top of the blue block while staying away from the green block")
+    executor, runtime = _run_with_runtime(world, MOVE_ABOVE_BLUE, 3, disturb)
     calls = runtime.llm_calls
     assert displaced
     assert executor.records[-1].result.success
@@ -89,21 +111,7 @@ def test_displaced_target_still_succeeds_without_new_llm_calls(world: TabletopWo
 
 def test_voxposer_run_writes_video_pictures_transcript_and_summary(tmp_path: Path) -> None:
     out = tmp_path / "run"
-    code = main(
-        [
-            "run",
-            "move to the top of the blue block while staying away from the green block",
-            "--llm",
-            "replay",
-            "--recordings",
-            str(RECORDINGS),
-            "--out",
-            str(out),
-            "--seed",
-            "5",
-        ]
-    )
-    summary = json.loads((out / "summary.json").read_text())
+    code, summary = _run_cli(out, MOVE_ABOVE_BLUE, "--seed", "5")
     assert code == 0 and summary["success"], summary
     assert (out / "rollout.mp4").stat().st_size > 10_000
     assert (out / "subtask_01.html").stat().st_size > 100_000
@@ -114,49 +122,23 @@ def test_voxposer_run_writes_video_pictures_transcript_and_summary(tmp_path: Pat
 
 def test_voxposer_run_fails_cleanly_for_an_unknown_object(tmp_path: Path) -> None:
     out = tmp_path / "run"
-    code = main(
-        [
-            "run",
-            "move to the top of the silver sphere",
-            "--llm",
-            "replay",
-            "--recordings",
-            str(RECORDINGS),
-            "--out",
-            str(out),
-            "--no-video",
-        ]
-    )
-    summary = json.loads((out / "summary.json").read_text())
+    code, summary = _run_cli(out, "move to the top of the silver sphere", "--no-video")
     assert code == 1 and not summary["success"]
     assert "silver sphere" in summary["message"] and "the scene has" in summary["message"]
 
 
 def test_voxposer_run_reports_a_missing_recordings_file(tmp_path: Path) -> None:
     out = tmp_path / "run"
-    code = main(
-        [
-            "run",
-            "close the top drawer",
-            "--llm",
-            "replay",
-            "--recordings",
-            str(tmp_path / "none.jsonl"),
-            "--out",
-            str(out),
-            "--no-video",
-        ]
+    code, summary = _run_cli(
+        out, "close the top drawer", "--no-video", recordings=tmp_path / "none.jsonl"
     )
-    summary = json.loads((out / "summary.json").read_text())
     assert code == 1 and not summary["success"]
     assert "does not exist" in summary["message"]
 
 
 def test_voxposer_run_recovers_from_disturbances(tmp_path: Path) -> None:
     out = tmp_path / "run"
-    code = main(["run", "close the top drawer", "--llm", "replay", "--recordings", str(RECORDINGS),
-                 "--out", str(out), "--no-video", "--disturb", "--seed", "3"])
-    summary = json.loads((out / "summary.json").read_text())
+    code, summary = _run_cli(out, "close the top drawer", "--no-video", "--disturb", "--seed", "3")
     kinds = {d["kind"] for d in summary["disturbances"]}
     assert "revert_progress" in kinds, summary["disturbances"]  # the drawer was pulled open again
     assert code == 0 and summary["success"], summary["message"]
