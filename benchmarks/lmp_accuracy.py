@@ -86,6 +86,12 @@ def check(scene: BoxScene, spec: dict[str, Any], value: Any) -> str | None:
             point[axis] = (box.hi if sign > 0 else box.lo)[axis] + sign * spec["cm"] / 100
         err = np.abs(_target(arr) - _vox(scene, point))
         return None if np.all(err <= 1) else f"target off by {err.tolist()} voxels"
+    if kind == "at_object":
+        box = scene.box(spec["object"])  # over its centre, between its bottom and its top
+        t, c = _target(arr), _vox(scene, _centre(scene, spec["object"]))
+        lo, hi = _vox(scene, box.lo)[2] - 1, _vox(scene, box.hi)[2] + 1
+        ok = np.all(np.abs(t[:2] - c[:2]) <= 1) and lo <= t[2] <= hi
+        return None if ok else f"target {t.tolist()} not at the object (centre {c.tolist()})"
     if kind == "table_region":
         t = scene.grid.voxel_to_world(_target(arr))
         for axis, sign in spec["signs"].items():
@@ -159,7 +165,8 @@ def run_case(runtime: LMPRuntime, case: dict[str, Any]) -> str | None:
     if not executor.evaluated:
         return "composer did not call execute"
     done = executor.evaluated[-1]
-    if done["movable"].name != spec["movable"]:
+    allowed = spec["movable"] if isinstance(spec["movable"], list) else [spec["movable"]]
+    if done["movable"].name not in allowed:
         return f"movable is {done['movable'].name!r}"
     for name, sub in spec["maps"].items():
         if name not in done:

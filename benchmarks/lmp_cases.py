@@ -193,6 +193,22 @@ def composer_cases() -> list[dict[str, Any]]:
             q = f"move to the {pos} while moving at {speed} when within {d}cm of the {c} block"
         out.append(_case("composer", q, seen, {"type": "composer", "movable": "gripper",
                                                "maps": maps}))
+    speeds = {True: (("a quarter of the speed", "eq", 0.25), ("faster speed", "gt", 1.0)),
+              False: (("slower speed", "lt", 1.0), ("3x speed", "eq", 3.0))}
+    for k, c in enumerate(COLOURS):
+        seen = c in SEEN_COLOURS
+        speed, op, value = speeds[seen][k % 2]
+        out.append(_case("composer", f"grasp the {c} block while moving at {speed}", seen, {
+            "type": "composer", "movable": "gripper",
+            "maps": {"affordance_map": {"type": "at_object", "object": f"{c} block"},
+                     "velocity_map": {"type": "speed_region", "signs": {}, "op": op,
+                                      "value": value},
+                     "gripper_map": {"type": "gripper_near", "object": f"{c} block",
+                                     "inside": 1.0, "outside": 0.0, "radius_cm": 1}}}))
+        # the hand, or the block it holds (a held object moves with the hand)
+        out.append(_case("composer", f"release the {c} block", seen, {
+            "type": "composer", "movable": ["gripper", f"{c} block"],
+            "maps": {"gripper_map": {"type": "gripper_all", "value": 0.0}}}))
     return out
 
 

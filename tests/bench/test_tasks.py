@@ -9,8 +9,8 @@ import pytest
 from voxposer.bench import TASKS, Tolerances, get_task, reset_episode
 from voxposer.bench.attributes import ATTRIBUTES, DEIXIS_DRAWER
 from voxposer.bench.programs import Programs
-from voxposer.bench.regions import PLACES, get_place
 from voxposer.bench.trace import Trace
+from voxposer.envs.places import PLACES, get_place
 from voxposer.errors import ConfigError
 
 TOL = Tolerances()

@@ -142,3 +142,43 @@ def test_close_a_drawer_by_pushing_its_handle(world: TabletopWorld) -> None:
     )
     assert result.success, result.message
     assert world.drawer_opening("top") < 0.02
+
+
+def test_a_grasped_block_is_carried_not_pushed_and_released_in_place(world: TabletopWorld) -> None:
+    world.reset(np.random.default_rng(5), _layout(blue_block=(-0.1, 0.0)))
+    api, grid = _api(world), world.grid
+    executor = ClosedLoopExecutor(world, np.random.default_rng(5))
+
+    def at(point: np.ndarray) -> np.ndarray:
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel(point))] = 1
+        return m
+
+    def block_centre() -> np.ndarray:
+        return at(world.detect("blue block").position)
+
+    def grasp_gripper() -> np.ndarray:  # open, except close around the block
+        m = api.get_empty_gripper_map()
+        m[:] = 0
+        return api.set_voxel_by_radius(m, grid.world_to_voxel(world.detect("blue block").position), 1, 1)
+
+    top_down = api.get_empty_rotation_map()
+    top_down[:] = api.pointat2quat([0, 0, -1])
+    assert executor(lambda: world.detect("gripper"), block_centre, rotation_map=top_down,
+                    gripper_map=grasp_gripper).success
+    assert world.get_gripper_state() >= 0.5
+
+    goal = np.array([0.0, -0.15, 0.12])  # 15 cm left and up: the hand must carry it there
+    result = executor(lambda: world.detect("blue block"), lambda: at(goal))
+    assert result.success, result.message
+    assert result.trace, "carried with the hand (end-effector mode), not pushed"
+    assert np.linalg.norm(world.object_position("blue block") - goal) < 0.04
+
+    def open_gripper() -> np.ndarray:
+        m = api.get_empty_gripper_map()
+        m[:] = 0
+        return m
+
+    result = executor(lambda: world.detect("blue block"), block_centre, gripper_map=open_gripper)
+    assert result.success, result.message
+    assert world.get_gripper_state() < 0.5

@@ -14,10 +14,10 @@ Public API:
 from voxposer.bench.config import Tolerances
 from voxposer.bench.episode import EpisodeJob, EpisodeRecord, run_episode
 from voxposer.bench.methods import METHODS, get_method
-from voxposer.bench.regions import PLACES, get_place
 from voxposer.bench.runner import BenchConfig, run_bench
 from voxposer.bench.task import BenchTask, Verdict, reset_episode
 from voxposer.bench.tasks import TASKS, get_task
+from voxposer.envs.places import PLACES, get_place
 
 __all__ = [
     "METHODS",

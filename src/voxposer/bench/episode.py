@@ -69,6 +69,8 @@ class EpisodeRecord:
     llm_calls: int = 0
     prompt_tokens: int = 0
     completion_tokens: int = 0
+    #: what the LLM wrote, in call order: {"lmp", "query", "code"} (for failure analysis)
+    programs: list[dict[str, str]] = field(default_factory=list)
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-serialisable dict."""
@@ -76,13 +78,14 @@ class EpisodeRecord:
 
 
 class CountingBackend(LLMBackend):
-    """Wraps a backend and counts calls and tokens."""
+    """Wraps a backend, counts calls and tokens and keeps what it wrote."""
 
     def __init__(self, inner: LLMBackend) -> None:
         self.inner = inner
         self.name = inner.name
         self.calls = self.prompt_tokens = self.completion_tokens = 0
         self.seconds = 0.0
+        self.programs: list[dict[str, str]] = []
 
     @property
     def model(self) -> str:
@@ -94,6 +97,9 @@ class CountingBackend(LLMBackend):
         self.prompt_tokens += response.prompt_tokens
         self.completion_tokens += response.completion_tokens
         self.seconds += response.seconds
+        query = request.messages[-1].content if request.messages else ""
+        self.programs.append({"lmp": request.prefix_id or "", "query": query[-300:],
+                              "code": response.text})
         return response
 
 
@@ -123,6 +129,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         rec.sim_time_s = round(float(world.data.time) - sim0, 3)
         rec.llm_calls, rec.prompt_tokens = counting.calls, counting.prompt_tokens
         rec.completion_tokens = counting.completion_tokens
+        rec.programs = counting.programs
         verdict = task.check(world, recorder.trace(), setup.attributes, tol)
         rec.success, rec.reason = bool(verdict.success), verdict.reason
         rec.metrics = {k: round(float(v), 4) for k, v in verdict.metrics.items()}

@@ -12,9 +12,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.bench.config import Tolerances
-from voxposer.bench.regions import Place
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import MAX_REACH, MIN_REACH
+from voxposer.envs.places import Place
 
 #: Robot base (x, y) [m] (``WorldConfig.robot_base``).
 BASE_XY = (-0.60, 0.0)

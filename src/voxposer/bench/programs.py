@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from voxposer.bench.regions import Place, table_fractions
+from voxposer.envs.places import Place
 
 _PARSE = re.compile(r"parse_query_obj\('([^']+)'\)")
 
@@ -44,13 +44,10 @@ class Programs:
 def place_voxel(place: Place, z_line: str) -> list[str]:
     """Lines that set ``x, y, z`` to the voxel of ``place``'s target point; ``z_line`` sets z
     (it may use ``table_top``, the voxel height of the table's surface)."""
-    fx, fy = table_fractions(place.point)
     return [
         "table = parse_query_obj('table')",
-        "lo, hi = table.aabb",
-        "table_top = hi[2]",
-        f"x = int(round(lo[0] + {fx} * (hi[0] - lo[0])))",
-        f"y = int(round(lo[1] + {fy} * (hi[1] - lo[1])))",
+        "table_top = table.aabb[1][2]",
+        f"x, y, _ = point_on(table, '{place.words}')",
         z_line,
     ]
 

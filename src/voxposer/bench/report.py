@@ -11,8 +11,8 @@ from typing import Any
 from voxposer.bench.config import Tolerances
 from voxposer.bench.methods import get_method
 from voxposer.bench.paper import TABLE2, paper_category_means, paper_rate
-from voxposer.bench.regions import PLACES
 from voxposer.bench.tasks import TASKS
+from voxposer.envs.places import PLACES
 
 
 @dataclass

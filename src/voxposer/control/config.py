@@ -29,6 +29,8 @@ class ExecutorConfig:
         stall_replans: give up after this many replans without ``min_progress_m`` of progress.
         min_progress_m: progress that resets the stall counter [m].
         max_pushes: pushes allowed for an object entity before giving up.
+        carry_radius_m: an object whose centre is this close to the closed hand is carried, not
+            pushed [m].
         ee_planner: planner parameters when the end effector is the entity.
         object_planner: planner parameters when an object or part is the entity.
         push: random-shooting MPC parameters.
@@ -41,6 +43,7 @@ class ExecutorConfig:
     stall_replans: int = 15
     min_progress_m: float = 0.005
     max_pushes: int = 25
+    carry_radius_m: float = 0.06
     ee_planner: PlannerConfig = field(
         default_factory=lambda: PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=1.0))
     )
@@ -54,6 +57,7 @@ class ExecutorConfig:
             "reach_tolerance_m",
             "lookahead_m",
             "min_progress_m",
+            "carry_radius_m",
         ):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):

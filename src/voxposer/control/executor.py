@@ -10,7 +10,10 @@ When the entity is the end effector the trajectory is followed through the world
 controller with the velocity scale, orientation and gripper command read from the maps. When it
 is an object or a part (a drawer, a handle), the planner plans the object's path and
 random-shooting MPC over a planar pushing model chooses each push
-(:mod:`voxposer.planning.pushing`), executed by a pushing primitive.
+(:mod:`voxposer.planning.pushing`), executed by a pushing primitive — unless the object is in
+the closed hand (its detected centre within ``ExecutorConfig.carry_radius_m`` of the end
+effector): then it moves with the hand (paper App. A.3), so the hand's path is planned for the
+object's centre and followed with the grasp offset subtracted.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from typing import Any, Literal, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
+from voxposer.control.anchoring import SelfRelativeAnchor
 from voxposer.control.config import ExecutorConfig
 from voxposer.control.pushing_loop import run_object
 from voxposer.control.scene_occupancy import is_end_effector, scene_occupancy
@@ -111,6 +115,18 @@ def _evaluate(source: Any) -> Any:
     return source() if callable(source) else source
 
 
+def _raise_to(grid: Any, affordance: NDArray[Any], min_z: float) -> NDArray[Any]:
+    """``affordance`` with every target voxel below height ``min_z`` [m] moved up to it."""
+    kz = int(np.clip(grid.world_to_voxel([0.0, 0.0, min_z], clip=True)[2], 0, grid.shape[2] - 1))
+    low = np.asarray(affordance)[:, :, :kz]
+    if kz == 0 or not low.any():
+        return affordance
+    out = np.array(affordance, copy=True)
+    out[:, :, kz] = np.maximum(out[:, :, kz], low.max(axis=2))
+    out[:, :, :kz] = 0
+    return out
+
+
 class ClosedLoopExecutor:
     """Runs ``execute`` against a world. One instance per world; reusable across calls."""
 
@@ -147,8 +163,14 @@ class ClosedLoopExecutor:
             raise PlanningError("execute() needs an affordance_map: nothing says where to go")
         entity = _evaluate(movable)
         name = str(entity["name"])
+        if is_end_effector(name):
+            def position() -> NDArray[np.float64]:
+                return self.world.get_ee_pose()[0]
+        else:
+            def position() -> NDArray[np.float64]:
+                return np.asarray(_evaluate(movable)["position"], dtype=np.float64)
         maps = {
-            "affordance_map": affordance_map,
+            "affordance_map": SelfRelativeAnchor(affordance_map, position, self.world.grid),
             "avoidance_map": avoidance_map,
             "rotation_map": rotation_map,
             "velocity_map": velocity_map,
@@ -156,13 +178,33 @@ class ClosedLoopExecutor:
         }
         if is_end_effector(name):
             result = self._run_end_effector(name, maps)
+        elif self._carry_offset(entity) is not None:
+            result = self._run_end_effector(name, maps, movable)
         else:
             result = self._run_object(movable, name, maps)
         self.history.append(result)
         return result
 
+    def _carry_offset(self, entity: Any) -> NDArray[np.float64] | None:
+        """Object centre − end effector [m], shape (3,), when ``entity`` is in the closed hand."""
+        if self.world.get_gripper_state() < 0.5:
+            return None
+        offset = np.asarray(entity["position"], dtype=np.float64) - self.world.get_ee_pose()[0]
+        return offset if float(np.linalg.norm(offset)) <= self.config.carry_radius_m else None
+
     # ----------------------------------------------------------- end effector
-    def _run_end_effector(self, name: str, maps: dict[str, MapSource]) -> ExecutionResult:
+    def _run_end_effector(
+        self, name: str, maps: dict[str, MapSource], carried: Any = None
+    ) -> ExecutionResult:
+        """Move the hand. With ``carried`` (an object in the hand, or a callable re-detecting
+        it) the plan is for that object's centre, the hand follows it shifted back by the
+        measured grasp offset, and a target lower than the object can rest is raised to its
+        resting height (an object cannot be carried into the table)."""
+        shift = np.zeros(3)
+        rest_z = -np.inf
+        if carried is not None:
+            held = _evaluate(carried)
+            rest_z = float(held["position"][2] - np.asarray(held["aabb"])[0][2])
         cfg, world = self.config, self.world
         control_dt = float(world.config.controller.control_dt)
         steps_per_replan = max(1, round(1.0 / cfg.replan_hz / control_dt))
@@ -173,8 +215,15 @@ class ClosedLoopExecutor:
             obs = world.observe(rgb=False)
             t1 = time.perf_counter()
             values = {k: _evaluate(v) for k, v in maps.items()}
+            hand_pos, ee_quat = world.get_ee_pose()
+            if carried is not None:
+                measured = self._carry_offset(_evaluate(carried))
+                if measured is None:
+                    return self.finish(result, "stalled", f"{name} slipped out of the hand")
+                shift = measured
+                values["affordance_map"] = _raise_to(world.grid, values["affordance_map"], rest_z)
             t2 = time.perf_counter()
-            ee_pos, ee_quat = world.get_ee_pose()
+            ee_pos = hand_pos + shift
             holding = world.get_gripper_state() >= 0.5
             try:
                 plan = self.ee_planner.plan(
@@ -214,12 +263,15 @@ class ClosedLoopExecutor:
                     f"time limit {cfg.max_time_s:.0f} s reached "
                     f"{dist * 100:.1f} cm from the target",
                 )
-            self._follow(plan, steps_per_replan, result)
+            self._follow(plan, steps_per_replan, result, shift)
 
-    def _follow(self, plan: Plan, steps: int, result: ExecutionResult) -> None:
-        """Steer the controller along ``plan`` for ``steps`` control periods."""
+    def _follow(
+        self, plan: Plan, steps: int, result: ExecutionResult, shift: NDArray[np.float64]
+    ) -> None:
+        """Steer the controller along ``plan`` (for a point ``shift`` metres from the hand) for
+        ``steps`` control periods."""
         traj = plan.trajectory
-        pos = traj.positions
+        pos = traj.positions - shift
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pos, axis=0), axis=1))])
         for _ in range(steps):
             here = self.world.get_ee_pose()[0]
@@ -229,7 +281,7 @@ class ClosedLoopExecutor:
             ahead = min(int(np.searchsorted(arc, arc[near] + lookahead)), len(pos) - 1)
             wp = traj[ahead]
             res = self.world.step(
-                wp.position,
+                wp.position - shift,
                 wp.quaternion,
                 gripper=float(traj.gripper[near]),
                 speed_scale=wp.velocity_scale,

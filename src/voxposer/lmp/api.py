@@ -4,6 +4,13 @@ Everything here works in voxel coordinates of the scene's grid (about 1 cm voxel
 about its inputs: a voxel may be an int or float array, a list, or an object (its centre); object
 names match by synonym and substring. Direction words: front +x, back/behind −x, right +y,
 left −y, above/top/over/up +z, below/under/bottom/down −z (also "+x", "-y"…).
+
+On the table, corners and sides are the named places of :mod:`voxposer.envs.places` (the places
+the robot can reach, which the benchmark checks against): ``point_on(table, "back left corner")``
+is that place's point, ``region_mask(table, "right side")`` its band; "half" or an axis token
+("-y") splits the table at its centre instead. A point *beside* the table's front/back/left/right
+face would lie off the table and outside the workspace, so ``point_beside(table, "front", cm)``
+reads as the table's front side, ``cm`` above its surface.
 """
 
 from __future__ import annotations
@@ -15,6 +22,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from voxposer.envs.places import TABLE_MAX, TABLE_MIN, Place, place_for_signs
 from voxposer.errors import OutOfWorkspaceError, VoxPoserError
 from voxposer.lmp.objects import ObjectView, match_name
 from voxposer.lmp.scene import Scene
@@ -24,6 +32,9 @@ from voxposer.valuemaps.maps import ValueMapAPI
 DEFAULT_OFFSET_CM: Final = 5.0
 #: How far in from an edge ``point_on`` puts "side"/"corner" points (fraction of the extent).
 EDGE_INSET: Final = 0.2
+#: A detected table whose extent matches the world's table within this [m] uses its named places.
+TABLE_MATCH_M: Final = 0.05
+_AXIS_TOKENS: Final = frozenset({"+x", "-x", "+y", "-y", "x", "y"})
 
 _WORDS: Final[dict[str, tuple[int, int]]] = {
     "front": (0, 1), "+x": (0, 1), "x": (0, 1), "forward": (0, 1),
@@ -100,6 +111,9 @@ class LMPAPI:
         """
         o = self._obj(obj)
         signs = parse_side(side)
+        place = self._table_place(o, side, signs)
+        if place is not None and 2 not in signs:
+            return self.point_on(o, side, cm_above=cm)
         lo, hi = o.aabb_world
         point = o.position_world.copy()
         for axis, sign in signs.items():
@@ -109,24 +123,41 @@ class LMPAPI:
 
     def point_on(self, obj: Any, where: str = "center", cm_above: float = 0.0) -> NDArray[np.int64]:
         """Voxel on the top surface of ``obj`` at a named part ("back left corner", "left side",
-        "center"), raised ``cm_above`` centimetres. Side points lie 20% in from that edge."""
+        "center"), raised ``cm_above`` centimetres. Side points lie 20% in from that edge; on the
+        table, the named place's point (module docs)."""
         o = self._obj(obj)
         signs = parse_side(where)
         lo, hi = o.aabb_world
         point = o.position_world.copy()
+        place = self._table_place(o, where, signs)
         for axis, sign in signs.items():
             if axis == 2:
                 continue
             span = hi[axis] - lo[axis]
             point[axis] = hi[axis] - EDGE_INSET * span if sign > 0 else lo[axis] + EDGE_INSET * span
+        if place is not None:
+            point[:2] = place.point
         point[2] = hi[2] + float(cm_above) / 100.0 + 0.5 * self.grid.resolution[2]
         return self._to_voxel(point, f"point on the {where} of the {o.name}")
 
     def region_mask(self, obj: Any, where: str) -> NDArray[np.bool_]:
         """Bool mask, shape ``grid.shape``: voxels over the named half/quadrant of ``obj``'s
-        footprint ("left side", "back left corner"), at every height ("top": above it only)."""
+        footprint ("left side", "back left corner"), at every height ("top": above it only). On
+        the table, a named place's region (module docs)."""
         o = self._obj(obj)
         signs = parse_side(where)
+        place = self._table_place(o, where, signs)
+        if place is not None:
+            nx, ny = self.grid.shape[:2]
+            ij = np.stack(np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij"), axis=-1)
+            centres = self.grid.voxel_to_world(np.concatenate([ij, np.zeros((nx, ny, 1))], -1))
+            mask2d = place.region(centres[..., :2])
+            mask = np.repeat(mask2d[:, :, None], self.grid.shape[2], axis=2)
+            if signs.get(2, 0) > 0:
+                mask[:, :, : o.aabb[1][2] + 1] = False
+            elif signs.get(2, 0) < 0:
+                mask[:, :, o.position[2] + 1:] = False
+            return mask
         lo, hi = o.aabb
         centre = o.position
         mask = np.zeros(self.grid.shape, dtype=bool)
@@ -138,6 +169,18 @@ class LMPAPI:
                 sl[axis] = slice(centre[axis], hi[axis] + 1) if sign > 0 else slice(lo[axis], centre[axis])
         mask[tuple(sl)] = True
         return mask
+
+    def _table_place(self, o: ObjectView, where: str, signs: dict[int, int]) -> Place | None:
+        """The named table place ``where`` picks on ``o`` (None: not the table, a "half", an axis
+        token, no horizontal word, or a table unlike the world's)."""
+        words = set(re.split(r"[\s,/_]+", str(where).strip().lower()))
+        if o.name != "table" or "half" in words or words & _AXIS_TOKENS:
+            return None
+        lo, hi = o.aabb_world
+        if max(abs(lo[0] - TABLE_MIN[0]), abs(lo[1] - TABLE_MIN[1]), abs(hi[0] - TABLE_MAX[0]),
+               abs(hi[1] - TABLE_MAX[1])) > TABLE_MATCH_M:
+            return None
+        return place_for_signs(signs)
 
     def _to_voxel(self, point: NDArray[np.float64], what: str) -> NDArray[np.int64]:
         if not bool(self.grid.contains(point)):

@@ -13,13 +13,13 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import block_at_place
 from voxposer.bench.programs import Programs, affordance_at_place
-from voxposer.bench.regions import get_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, gripper_composer, place_query
 from voxposer.bench.tasks.grasp_at_velocity import grasp_programs
 from voxposer.bench.tasks.push_to_pos import push_start
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import get_place
 
 #: Height above the table the block is carried to before it is released [cm].
 CARRY_CM = 10

@@ -14,7 +14,6 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import ee_at_place
 from voxposer.bench.programs import Programs, affordance_at_place
-from voxposer.bench.regions import get_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
     EE_START_XY,
@@ -26,6 +25,7 @@ from voxposer.bench.tasks._common import (
 )
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import get_place
 
 #: Extra radius a correct avoidance map adds to the stated distance [cm].
 AVOID_MARGIN_CM = 2

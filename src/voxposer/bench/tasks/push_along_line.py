@@ -26,7 +26,7 @@ from voxposer.envs.layout import SceneLayout
 LINE_LENGTH = 0.20
 #: The block starts at the end of the line in front of this x [m]: pushing a block toward +x
 #: from farther back puts the hand within ≈ 10 cm of the robot's base, where the Panda cannot
-#: hold it top-down above the block (see :mod:`voxposer.bench.regions`).
+#: hold it top-down above the block (see :mod:`voxposer.envs.places`).
 BACK_LIMIT_X = -0.36
 
 

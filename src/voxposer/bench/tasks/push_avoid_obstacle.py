@@ -17,12 +17,12 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import block_at_place, max_displacement
 from voxposer.bench.programs import Programs
-from voxposer.bench.regions import get_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clear, toward
 from voxposer.bench.tasks.push_to_pos import push_programs, push_start
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import get_place
 
 
 class PushAvoidObstacle(BenchTask):

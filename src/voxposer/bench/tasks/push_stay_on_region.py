@@ -14,11 +14,11 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import max_displacement, sample_xy
 from voxposer.bench.programs import Programs
-from voxposer.bench.regions import TABLE_MAX, TABLE_MIN, get_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import TABLE_MAX, TABLE_MIN, get_place
 
 #: Per region: start box of the block [m] (inside it, ≥ 10 cm from its boundary), the
 #: direction a correct program pushes it (parallel to the boundary) and the fixed coordinate

@@ -16,7 +16,6 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import BLOCK_HALF, ee_at_place, sample_xy
 from voxposer.bench.programs import Programs, affordance_at_place
-from voxposer.bench.regions import get_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
     EE_START_XY,
@@ -29,6 +28,7 @@ from voxposer.bench.tasks._common import (
 from voxposer.bench.tasks.move_to_preposition import SIDES
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import get_place
 
 BOX_LO, BOX_HI = (-0.34, -0.30), (0.10, 0.30)
 SPARE_M = 0.05

@@ -1,7 +1,7 @@
 """Task "move to the [pos] while moving at [velocity] in the [region]" (Spatial Composition).
 
 Success: the end effector ends at the place, and inside the region (a table side, see
-:mod:`voxposer.bench.regions`) its median speed over ``ee_speed`` lies in the velocity word's
+:mod:`voxposer.envs.places`) its median speed over ``ee_speed`` lies in the velocity word's
 band. Only combinations whose place lies inside the region are drawn (so the region is crossed).
 """
 
@@ -14,11 +14,11 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import VELOCITY_SCALE, ee_at_place, speed_clause
 from voxposer.bench.programs import Programs, affordance_at_place
-from voxposer.bench.regions import get_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, gripper_composer, one_subtask, place_query
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import get_place
 
 
 class VelocityInRegion(BenchTask):

@@ -18,7 +18,6 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import VELOCITY_SCALE, ee_at_place, speed_clause
 from voxposer.bench.programs import Programs, affordance_at_place
-from voxposer.bench.regions import get_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
     EE_START_XY,
@@ -30,6 +29,7 @@ from voxposer.bench.tasks._common import (
 )
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import get_place
 
 #: Extra radius a correct velocity map gives the zone, so the speed has changed on entry [cm].
 ZONE_MARGIN_CM = 2

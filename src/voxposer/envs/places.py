@@ -1,5 +1,9 @@
 """The one place where table words ("back left corner", "right side") become geometry.
 
+Both sides of the benchmark read these definitions: the programs' API (``point_on(table, ...)``,
+``region_mask(table, ...)`` in :mod:`voxposer.lmp.api`) aims at them, and the benchmark's checks
+(:mod:`voxposer.bench`) measure against them, so a correct program lands inside what is checked.
+
 World frame (metres): front = +x, back = −x, right = +y, left = −y; the table top spans
 x ∈ [−0.70, 0.30], y ∈ [−0.50, 0.50] and the robot base stands at (−0.60, 0). The true table
 corners are out of reach (≈ 0.75 m from the base), so every place is defined on the *reachable
@@ -16,9 +20,8 @@ heights ≈ 0.18–0.30 m (the elbow is fully folded, joint 4 at its limit), so 
 could only be reached from below that pocket and a carry or a descent from the ready pose
 stalled on its boundary. Band and point keep the same 7 cm margin as before.
 
-The LMP prompts' ``point_on(table, 'right side')`` (20 % in from the table edge, (−0.2, 0.3)) lies
-inside these sides; the reference programs aim at :attr:`Place.point` through fractions of the
-table's bounding box (:func:`table_fractions`), which is how generated code can reach it.
+A place's **region** (:meth:`Place.region`) is its side band, or for a corner the intersection of
+the two side bands that meet there (the back left corner region is back ∩ left).
 """
 
 from __future__ import annotations
@@ -67,6 +70,15 @@ class Place:
         """Whether points ``xy`` (shape (..., 2) or (..., 3), metres) are in the place."""
         return self.margin(xy, corner_radius) >= 0.0
 
+    def region(self, xy: ArrayLike) -> NDArray[np.bool_]:
+        """Whether points ``xy`` (shape (..., 2+), metres) lie in the place's region: its band for
+        a side, the two adjoining side bands' intersection for a corner."""
+        if self.kind == "side":
+            return self.contains(xy, 0.0)
+        sides = [p for p in PLACES.values() if p.kind == "side" and p.words.split()[0] in
+                 self.words.split()]
+        return np.logical_and.reduce([s.contains(xy, 0.0) for s in sides])
+
     @property
     def words(self) -> str:
         """The place without "of the table" ("back left corner")."""
@@ -100,8 +112,16 @@ def get_place(name: str) -> Place:
     return PLACES[name]
 
 
-def table_fractions(point: tuple[float, float]) -> tuple[float, float]:
-    """(fx, fy): ``point`` as fractions of the table's extent (0 = back/left edge)."""
-    return tuple(  # type: ignore[return-value]
-        round((point[k] - TABLE_MIN[k]) / (TABLE_MAX[k] - TABLE_MIN[k]), 3) for k in (0, 1)
-    )
+def place_for_signs(signs: dict[int, int]) -> Place | None:
+    """The table place named by horizontal directions ``{axis: sign}`` (axis 0 = x: +1 front,
+    −1 back; axis 1 = y: +1 right, −1 left), e.g. ``{0: -1, 1: -1}`` → back left corner;
+    None when no horizontal direction is given. A vertical entry (axis 2) is ignored."""
+    words = []
+    if signs.get(0):
+        words.append("front" if signs[0] > 0 else "back")
+    if signs.get(1):
+        words.append("right" if signs[1] > 0 else "left")
+    if not words:
+        return None
+    kind = "corner" if len(words) == 2 else "side"
+    return PLACES[f"{' '.join(words)} {kind} of the table"]
