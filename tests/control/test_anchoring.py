@@ -58,3 +58,26 @@ def test_the_hand_reaches_a_point_above_itself_instead_of_chasing_it(
     )
     assert result.success, result.message
     assert abs(world.get_ee_pose()[0][2] - (start[2] + 0.08)) < 0.03
+
+
+def test_a_drawer_pushed_by_a_handle_relative_target_closes_all_the_way(
+    world: TabletopWorld,
+) -> None:
+    from voxposer.envs.layout import SceneLayout
+
+    world.reset(np.random.default_rng(7),
+                SceneLayout(blocks=("blue",), drawer_openings={"top": 0.15}, extra_blocks=(0, 0)))
+    api = ValueMapAPI(world.grid, lambda: world.get_ee_pose()[1], world.get_gripper_state)
+    axis = world.sliding_axis("top drawer")
+
+    def twelve_cm_in() -> np.ndarray:  # less than the opening: only "until it stops" closes it
+        m = api.get_empty_affordance_map()
+        handle = world.detect("top drawer handle").position
+        m[tuple(world.grid.world_to_voxel(handle - 0.12 * axis))] = 1
+        return m
+
+    result = ClosedLoopExecutor(world, np.random.default_rng(7))(
+        lambda: world.detect("top drawer handle"), twelve_cm_in
+    )
+    assert result.success, result.message
+    assert world.drawer_opening("top") < 0.02

@@ -43,7 +43,7 @@ class ExecutorConfig:
     stall_replans: int = 15
     min_progress_m: float = 0.005
     max_pushes: int = 25
-    carry_radius_m: float = 0.06
+    carry_radius_m: float = 0.08
     ee_planner: PlannerConfig = field(
         default_factory=lambda: PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=1.0))
     )

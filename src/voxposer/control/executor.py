@@ -14,6 +14,10 @@ random-shooting MPC over a planar pushing model chooses each push
 the closed hand (its detected centre within ``ExecutorConfig.carry_radius_m`` of the end
 effector): then it moves with the hand (paper App. A.3), so the hand's path is planned for the
 object's centre and followed with the grasp offset subtracted.
+
+An affordance that moves with the entity itself is anchored where it was first computed
+(:mod:`voxposer.control.anchoring`), except for a sliding part (a drawer), which is pushed until
+its end of travel.
 """
 
 from __future__ import annotations
@@ -169,8 +173,13 @@ class ClosedLoopExecutor:
         else:
             def position() -> NDArray[np.float64]:
                 return np.asarray(_evaluate(movable)["position"], dtype=np.float64)
+        axis_of = getattr(self.world, "sliding_axis", None)
+        slides = not is_end_effector(name) and callable(axis_of) and axis_of(name) is not None
         maps = {
-            "affordance_map": SelfRelativeAnchor(affordance_map, position, self.world.grid),
+            # a sliding part stops at its end of travel, so a target moving with it is kept
+            # ("push the handle 20 cm in" = until the drawer is shut)
+            "affordance_map": affordance_map if slides else
+            SelfRelativeAnchor(affordance_map, position, self.world.grid),
             "avoidance_map": avoidance_map,
             "rotation_map": rotation_map,
             "velocity_map": velocity_map,
@@ -218,6 +227,9 @@ class ClosedLoopExecutor:
             hand_pos, ee_quat = world.get_ee_pose()
             if carried is not None:
                 measured = self._carry_offset(_evaluate(carried))
+                if measured is None and world.get_gripper_state() < 0.5:
+                    return self.finish(result, "reached", f"{name} released: the gripper map "
+                                       "opened the hand")
                 if measured is None:
                     return self.finish(result, "stalled", f"{name} slipped out of the hand")
                 shift = measured
