@@ -90,6 +90,8 @@ def check(scene: BoxScene, spec: dict[str, Any], value: Any) -> str | None:
         box = scene.box(spec["object"])  # over its centre, between its bottom and its top
         t, c = _target(arr), _vox(scene, _centre(scene, spec["object"]))
         lo, hi = _vox(scene, box.lo)[2] - 1, _vox(scene, box.hi)[2] + 1
+        if spec.get("strict"):  # the centre itself (within a voxel)
+            lo, hi = c[2] - 1, c[2] + 1
         ok = np.all(np.abs(t[:2] - c[:2]) <= 1) and lo <= t[2] <= hi
         return None if ok else f"target {t.tolist()} not at the object (centre {c.tolist()})"
     if kind == "table_region":

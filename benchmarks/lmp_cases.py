@@ -75,6 +75,9 @@ def affordance_cases() -> list[dict[str, Any]]:
         d = _d(k, seen)
         out.append(_case("get_affordance_map", f"a point {d}cm above the {obj}", seen,
                          {"type": "beside", "object": obj, "side": "top", "cm": d}))
+        # what a grasp aims at: the block's centre itself, not its top face
+        out.append(_case("get_affordance_map", f"a point at the center of the {obj}", seen,
+                         {"type": "at_object", "object": obj, "strict": True}))
     for pos, (signs, seen) in POSITIONS.items():
         out.append(_case("get_affordance_map", f"the {pos}", seen,
                          {"type": "table_region", "signs": signs}))

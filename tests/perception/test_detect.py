@@ -79,3 +79,13 @@ def test_unknown_and_absent_names_raise(all_blocks: TabletopWorld) -> None:
     absent = next(c for c in COLORS if f"{c} block" not in all_blocks.object_names)
     with pytest.raises(UnknownObjectError):
         all_blocks.detect(f"{absent} block")
+
+
+@pytest.mark.parametrize("which", ["top", "middle", "bottom"])
+def test_a_handles_normal_faces_out_of_the_cabinet(world: TabletopWorld, which: str) -> None:
+    # the cameras see mostly a handle's top; its normal must still point the way it opens
+    world.reset(np.random.default_rng(8), SceneLayout(blocks=("blue",), extra_blocks=(0, 0),
+                                                      drawer_openings={which: 0.12}))
+    normal = world.detect(f"{which} drawer handle").normal
+    assert normal @ world.sliding_axis(f"{which} drawer") > np.cos(np.radians(10))
+    assert abs(normal[2]) < 1e-9

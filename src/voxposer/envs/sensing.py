@@ -108,7 +108,8 @@ class SensingMixin:
         """
         obj = self.registry.resolve(name, self._present)
         cloud = self.observe(rgb=False).cloud
-        return detect_in_cloud(cloud, self.registry.family_labels(obj.name), obj.name, self.grid)
+        return detect_in_cloud(cloud, self.registry.family_labels(obj.name), obj.name, self.grid,
+                               horizontal_normal=obj.kind in ("drawer", "handle"))
 
     def close(self) -> None:
         """Release the rendering context (the world stays usable; rendering reopens it)."""

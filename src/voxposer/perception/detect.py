@@ -57,8 +57,13 @@ def _frozen(arr: NDArray[Any]) -> NDArray[Any]:
 
 
 def detect_in_cloud(cloud: PointCloud, labels: NDArray[np.int32], name: str,
-                    grid: VoxelGrid) -> DetectedObject:
+                    grid: VoxelGrid, *, horizontal_normal: bool = False) -> DetectedObject:
     """Gather the points whose label is in ``labels`` into a :class:`DetectedObject`.
+
+    The normal is the mean of the points' unit normals. With ``horizontal_normal`` (a part
+    mounted on a vertical face: a drawer, a handle) only the points facing sideways (|n_z| < 0.5)
+    count and the result is horizontal: cameras above the table mostly see such a part's top, which
+    would otherwise tilt its normal upward (a handle's by ~35–50°).
 
     Raises:
         ObjectNotVisibleError: when no point carries one of the labels.
@@ -70,7 +75,11 @@ def detect_in_cloud(cloud: PointCloud, labels: NDArray[np.int32], name: str,
     nrm = cloud.normals[mask]
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     valid = np.linalg.norm(nrm, axis=1) > 0.5
+    if horizontal_normal and np.any(valid & (np.abs(nrm[:, 2]) < 0.5)):
+        valid &= np.abs(nrm[:, 2]) < 0.5
     mean = nrm[valid].mean(axis=0) if np.any(valid) else np.zeros(3)
+    if horizontal_normal:
+        mean[2] = 0.0
     length = float(np.linalg.norm(mean))
     normal = mean / length if length > 1e-9 else np.zeros(3)
     return DetectedObject(
