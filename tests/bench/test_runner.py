@@ -68,16 +68,3 @@ def test_jsonl_resume_crash_and_report(tmp_path: Path, monkeypatch) -> None:
     assert "| move to the [region] | 100.0% (1/1) |" in text
     assert (tmp_path / "success.png").stat().st_size > 10_000
     assert np.isfinite(len(text))
-
-
-def test_ray_executor_names_the_extra_when_missing(tmp_path: Path) -> None:
-    pytest.importorskip("voxposer")
-    try:
-        import ray  # noqa: F401
-    except ImportError:
-        cfg = BenchConfig(tasks=("move_to_region",), splits=("seen",), episodes=1,
-                          executor="ray")
-        with pytest.raises(Exception, match=r"voxposer\[ray\]"):
-            run_bench(cfg, tmp_path / "r.jsonl")
-    else:  # pragma: no cover - only where ray is installed
-        pytest.skip("ray is installed")

@@ -67,6 +67,8 @@ class EpisodeRecord:
     timings_s: dict[str, float] = field(default_factory=dict)
     sim_time_s: float = 0.0
     llm_calls: int = 0
+    #: of ``llm_calls``, those answered by the response cache (a repeated identical request)
+    llm_cached_calls: int = 0
     prompt_tokens: int = 0
     completion_tokens: int = 0
     #: what the LLM wrote, in call order: {"lmp", "query", "code"} (for failure analysis)
@@ -83,7 +85,7 @@ class CountingBackend(LLMBackend):
     def __init__(self, inner: LLMBackend) -> None:
         self.inner = inner
         self.name = inner.name
-        self.calls = self.prompt_tokens = self.completion_tokens = 0
+        self.calls = self.cached = self.prompt_tokens = self.completion_tokens = 0
         self.seconds = 0.0
         self.programs: list[dict[str, str]] = []
 
@@ -94,6 +96,7 @@ class CountingBackend(LLMBackend):
     def complete(self, request: LLMRequest) -> LLMResponse:
         response = self.inner.complete(request)
         self.calls += 1
+        self.cached += bool(getattr(response, "cached", False))
         self.prompt_tokens += response.prompt_tokens
         self.completion_tokens += response.completion_tokens
         self.seconds += response.seconds
@@ -128,6 +131,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         t2 = time.perf_counter()
         rec.sim_time_s = round(float(world.data.time) - sim0, 3)
         rec.llm_calls, rec.prompt_tokens = counting.calls, counting.prompt_tokens
+        rec.llm_cached_calls = counting.cached
         rec.completion_tokens = counting.completion_tokens
         rec.programs = counting.programs
         verdict = task.check(world, recorder.trace(), setup.attributes, tol)

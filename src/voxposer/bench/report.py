@@ -101,9 +101,14 @@ def markdown(records: list[dict[str, Any]], tol: Tolerances, wall_rates: dict[st
                          f"{_pct(paper_means.get((category, 'unseen')))} | {t2_text} |")
         rate = episodes_per_hour(records, method, llm)
         wall = (wall_rates or {}).get(f"{method}/{llm}")
+        group = [r for r in records if r["method"] == method and r["llm"] == llm]
+        calls = sum(int(r.get("llm_calls", 0)) for r in group)
+        cached = sum(int(r.get("llm_cached_calls", 0)) for r in group)
         lines += ["", f"Throughput: {rate:.0f} episodes/hour per worker process"
                   + (f"; {wall:.0f} episodes/hour wall-clock in the last session" if wall else "")
-                  + ".", ""]
+                  + f". LLM calls: {calls}"
+                  + (f", {cached} of them answered by the response cache or a recording "
+                     "(a repeated identical request)" if cached else "") + ".", ""]
     lines += ["## Task categories", "", "| Task | Category |", "|---|---|"]
     lines += [f"| {t.template} | {t.category} |" for t in TASKS.values()]
     lines += ["", "## Table places ([pos], [region]) — x front, y right, metres", "",
