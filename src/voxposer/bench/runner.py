@@ -195,7 +195,7 @@ def _ray(cfg: BenchConfig, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
         raise VoxPoserError("--executor ray needs Ray, which is not installed; install the "
                             "extra: pip install 'voxposer[ray]'") from exc
     ray.init(address=cfg.ray_address, ignore_reinit_error=True)
-    actor_cls = ray.remote(num_cpus=1)(_RayWorker)
+    actor_cls: Any = ray.remote(num_cpus=1)(_RayWorker)  # actor handles are untyped
     actors = [actor_cls.remote(cfg.llm, cfg.llm_overrides)
               for _ in range(min(cfg.workers, len(jobs)))]
     queue = list(jobs)
