@@ -6,8 +6,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from voxposer.bench.programs import Programs
+from voxposer.bench.programs import Programs, affordance_at_place
 from voxposer.envs.layout import SceneLayout
+from voxposer.envs.places import Place
 
 #: Distractor counts of block tasks (the paper randomises "a number of objects" per task).
 DISTRACTOR_BLOCKS = (2, 4)
@@ -75,3 +76,22 @@ def toward(a: tuple[float, float], b: tuple[float, float], r: float,
 def place_query(place_name: str, height_cm: float) -> str:
     """The affordance query for a point above a table place."""
     return f"a point {height_cm:g}cm above the {place_name}"
+
+
+#: Radius [m] kept free of distractors around where the end effector should end.
+TARGET_CLEAR_M = 0.09
+
+
+def clear_at(point: tuple[float, float]) -> list[tuple[tuple[float, float], float]]:
+    """``keep_clear`` for a task that ends at ``point``: no distractor within 9 cm of it."""
+    return [(point, TARGET_CLEAR_M)]
+
+
+def move_to_place_programs(instruction: str, subtask: str, place: Place, kind: str,
+                           query: str) -> Programs:
+    """Reference programs for one sub-task moving the gripper 5 cm above ``place`` with one more
+    map (``kind`` "avoidance"/"velocity", answering ``query``); the caller adds that map's code."""
+    aff = place_query(place.name, 5)
+    progs = one_subtask(Programs(), instruction, subtask, reset=False)
+    gripper_composer(progs, subtask, {"affordance": aff, kind: query})
+    return progs.add("get_affordance_map", aff, *affordance_at_place(place, 5))

@@ -13,14 +13,13 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import ee_at_place
-from voxposer.bench.programs import Programs, affordance_at_place
+from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
     EE_START_XY,
     block_layout,
-    gripper_composer,
-    one_subtask,
-    place_query,
+    clear_at,
+    move_to_place_programs,
     toward,
 )
 from voxposer.bench.trace import Trace
@@ -45,7 +44,7 @@ class MinDistance(BenchTask):
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return [(get_place(attrs["pos"]).point, 0.09)]
+        return clear_at(get_place(attrs["pos"]).point)
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         ok, why = ee_at_place(trace.ee[-1], get_place(attrs["pos"]), tol)
@@ -59,11 +58,8 @@ class MinDistance(BenchTask):
     def reference(self, attrs: dict[str, str]) -> Programs:
         place, obj, dist = get_place(attrs["pos"]), attrs["obj"], int(attrs["dist"])
         subtask = self.instruction(attrs)
-        aff = place_query(place.name, 5)
         avoid = f"at least {dist}cm away from the {obj}"
-        progs = one_subtask(Programs(), subtask, subtask, reset=False)
-        gripper_composer(progs, subtask, {"affordance": aff, "avoidance": avoid})
-        progs.add("get_affordance_map", aff, *affordance_at_place(place, 5))
+        progs = move_to_place_programs(subtask, subtask, place, "avoidance", avoid)
         return progs.add("get_avoidance_map", avoid, "avoidance_map = get_empty_avoidance_map()",
                          f"block = parse_query_obj('{obj}')",
                          f"set_voxel_by_radius(avoidance_map, block.position, "

@@ -15,7 +15,7 @@ from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import BLOCK_HALF, sample_xy
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
-from voxposer.bench.tasks._common import block_layout, gripper_composer, one_subtask
+from voxposer.bench.tasks._common import block_layout, clear_at, gripper_composer, one_subtask
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 
@@ -66,7 +66,7 @@ class MoveToPreposition(BenchTask):
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return [(self._target(attrs, world.object_position(attrs["obj"])), 0.09)]
+        return clear_at(self._target(attrs, world.object_position(attrs["obj"])))
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         return beside_verdict(trace.ee[-1], world.object_position(attrs["obj"]),

@@ -14,7 +14,7 @@ from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import ee_at_place
 from voxposer.bench.programs import Programs, affordance_at_place
 from voxposer.bench.task import BenchTask, Verdict
-from voxposer.bench.tasks._common import block_layout, gripper_composer, one_subtask
+from voxposer.bench.tasks._common import block_layout, clear_at, gripper_composer, one_subtask
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 from voxposer.envs.places import get_place
@@ -34,7 +34,7 @@ class MoveToRegion(BenchTask):
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return [(get_place(attrs["region"]).point, 0.09)]
+        return clear_at(get_place(attrs["region"]).point)
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         ok, why = ee_at_place(trace.ee[-1], get_place(attrs["region"]), tol)

@@ -20,6 +20,7 @@ from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
     EE_START_XY,
     block_layout,
+    clear_at,
     gripper_composer,
     one_subtask,
     place_query,
@@ -77,7 +78,7 @@ class StayingOnPreposition(BenchTask):
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return [(get_place(attrs["pos"]).point, 0.09)]
+        return clear_at(get_place(attrs["pos"]).point)
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         ok, why = ee_at_place(trace.ee[-1], get_place(attrs["pos"]), tol)

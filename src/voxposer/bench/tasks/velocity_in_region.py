@@ -13,9 +13,9 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import VELOCITY_SCALE, ee_at_place, speed_clause
-from voxposer.bench.programs import Programs, affordance_at_place
+from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
-from voxposer.bench.tasks._common import block_layout, gripper_composer, one_subtask, place_query
+from voxposer.bench.tasks._common import block_layout, clear_at, move_to_place_programs
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 from voxposer.envs.places import get_place
@@ -36,7 +36,7 @@ class VelocityInRegion(BenchTask):
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return [(get_place(attrs["pos"]).point, 0.09)]
+        return clear_at(get_place(attrs["pos"]).point)
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         ok, why = ee_at_place(trace.ee[-1], get_place(attrs["pos"]), tol)
@@ -49,11 +49,8 @@ class VelocityInRegion(BenchTask):
         place, region, vel = get_place(attrs["pos"]), get_place(attrs["region"]), \
             attrs["velocity"]
         subtask = self.instruction(attrs)
-        aff = place_query(place.name, 5)
         velq = f"{vel} in the {region.name}"
-        progs = one_subtask(Programs(), subtask, subtask, reset=False)
-        gripper_composer(progs, subtask, {"affordance": aff, "velocity": velq})
-        progs.add("get_affordance_map", aff, *affordance_at_place(place, 5))
+        progs = move_to_place_programs(subtask, subtask, place, "velocity", velq)
         return progs.add("get_velocity_map", velq, "velocity_map = get_empty_velocity_map()",
                          "table = parse_query_obj('table')",
                          f"velocity_map[region_mask(table, '{region.words}')] = "

@@ -17,14 +17,13 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import VELOCITY_SCALE, ee_at_place, speed_clause
-from voxposer.bench.programs import Programs, affordance_at_place
+from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
     EE_START_XY,
     block_layout,
-    gripper_composer,
-    one_subtask,
-    place_query,
+    clear_at,
+    move_to_place_programs,
     toward,
 )
 from voxposer.bench.trace import Trace
@@ -50,7 +49,7 @@ class VelocityNearObj(BenchTask):
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return [(get_place(attrs["pos"]).point, 0.09)]
+        return clear_at(get_place(attrs["pos"]).point)
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         ok, why = ee_at_place(trace.ee[-1], get_place(attrs["pos"]), tol)
@@ -64,11 +63,8 @@ class VelocityNearObj(BenchTask):
         place, obj, dist, vel = get_place(attrs["pos"]), attrs["obj"], attrs["dist"], \
             attrs["velocity"]
         subtask = self.instruction(attrs).replace(" from the ", " of the ")
-        aff = place_query(place.name, 5)
         velq = f"{vel} within {dist}cm of the {obj}"
-        progs = one_subtask(Programs(), self.instruction(attrs), subtask, reset=False)
-        gripper_composer(progs, subtask, {"affordance": aff, "velocity": velq})
-        progs.add("get_affordance_map", aff, *affordance_at_place(place, 5))
+        progs = move_to_place_programs(self.instruction(attrs), subtask, place, "velocity", velq)
         return progs.add("get_velocity_map", velq, "velocity_map = get_empty_velocity_map()",
                          f"block = parse_query_obj('{obj}')",
                          f"set_voxel_by_radius(velocity_map, block.position, "
