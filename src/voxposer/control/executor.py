@@ -167,14 +167,15 @@ class ClosedLoopExecutor:
             raise PlanningError("execute() needs an affordance_map: nothing says where to go")
         entity = _evaluate(movable)
         name = str(entity["name"])
-        if is_end_effector(name):
-            def position() -> NDArray[np.float64]:
+        hand = is_end_effector(name)
+
+        def position() -> NDArray[np.float64]:  # the entity's, for anchoring
+            if hand:
                 return self.world.get_ee_pose()[0]
-        else:
-            def position() -> NDArray[np.float64]:
-                return np.asarray(_evaluate(movable)["position"], dtype=np.float64)
+            return np.asarray(_evaluate(movable)["position"], dtype=np.float64)
+
         axis_of = getattr(self.world, "sliding_axis", None)
-        slides = not is_end_effector(name) and callable(axis_of) and axis_of(name) is not None
+        slides = not hand and callable(axis_of) and axis_of(name) is not None
         maps = {
             # a sliding part stops at its end of travel, so a target moving with it is kept
             # ("push the handle 20 cm in" = until the drawer is shut)
@@ -185,7 +186,7 @@ class ClosedLoopExecutor:
             "velocity_map": velocity_map,
             "gripper_map": gripper_map,
         }
-        if is_end_effector(name):
+        if hand:
             result = self._run_end_effector(name, maps)
         elif self._carry_offset(entity) is not None:
             result = self._run_end_effector(name, maps, movable)
