@@ -55,7 +55,7 @@ def test_record_then_replay_by_exact_key(tmp_path: Path) -> None:
 def test_prompts_parse_and_hold_no_unseen_attributes(name: str) -> None:
     prompt = load_prompt(name)
     assert 5 <= len(prompt.examples) <= 20
-    examples = "\n".join(u + "\n" + a for u, a in prompt.examples).lower()
+    examples = "\n".join(e.user + "\n" + e.assistant for e in prompt.examples).lower()
     for word in UNSEEN:
         assert not re.search(rf"\b{re.escape(word)}\b", examples), (name, word)
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Final, Literal
 
 from voxposer.errors import ConfigError
+from voxposer.lmp.prompt_tags import TASK_NAMES
 from voxposer.lmp.sandbox import SandboxConfig
 
 Role = Literal["planner", "composer", "object", "map"]
@@ -76,6 +77,8 @@ class LMPConfig:
         max_depth: deepest nesting of LMP calls (composer → map → parse_query_obj is 3).
         prompt_dir: directory with the prompt files (None: the packaged prompts).
         sandbox: limits of each execution of generated code.
+        held_out_task: a benchmark task whose few-shot examples are removed from every prompt
+            (its "unseen instruction" fold, :mod:`voxposer.lmp.prompt_tags`); None keeps all.
     """
 
     max_attempts: int = 3
@@ -85,8 +88,12 @@ class LMPConfig:
     max_depth: int = 6
     prompt_dir: str | None = None
     sandbox: SandboxConfig = field(default_factory=SandboxConfig)
+    held_out_task: str | None = None
 
     def __post_init__(self) -> None:
+        if self.held_out_task is not None and self.held_out_task not in TASK_NAMES:
+            raise ConfigError(f"LMPConfig.held_out_task must be a benchmark task or None; got "
+                              f"{self.held_out_task!r}; tasks are: {', '.join(TASK_NAMES)}")
         if not (isinstance(self.max_attempts, int) and 1 <= self.max_attempts <= 10):
             raise ConfigError(f"LMPConfig.max_attempts must be an int in [1, 10]; got "
                               f"{self.max_attempts!r}")

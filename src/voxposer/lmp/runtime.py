@@ -9,6 +9,10 @@ Self-correction: when code raises, leaves its result unset, or fails a sanity ch
 (:mod:`voxposer.lmp.checks`), the error is appended to the conversation and the model is asked
 again, up to ``LMPConfig.max_attempts`` calls. Code that has already had side effects (an
 ``execute`` or ``composer`` call) is not retried.
+
+With ``LMPConfig.held_out_task`` every prompt loses the examples tagged with that task (an
+"unseen instruction" fold); a prompt the fold changed is sent under its own prefix id
+(``"composer~push_to_pos"``), so a backend caches its prefix beside the default one.
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ from voxposer.lmp.executor import MAP_ARGUMENTS, ExecutionRequest, Executor, Rec
 from voxposer.lmp.objects import ObjectView
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
-from voxposer.lmp.registry import MAP_LMPS, LMPConfig, LMPSpec, get_spec
+from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec
 from voxposer.lmp.sandbox import Sandbox, suspend_time_limit
 from voxposer.lmp.scene import Scene
 from voxposer.lmp.transcript import Transcript
@@ -76,6 +80,9 @@ class LMPRuntime:
         self._depth = 0
         self._side_effects = 0
         self._subtask = ""
+        if self.config.held_out_task is not None:  # a fold that empties a prompt fails now
+            for name in LMP_SPECS:
+                self.prompt(name)
 
     # ------------------------------------------------------------------ public entry points
     def run(self, instruction: str) -> None:
@@ -104,9 +111,10 @@ class LMPRuntime:
             raise LMPFailedError(lmp, query, [{"code": code, "error": _describe(exc)}]) from exc
 
     def prompt(self, lmp: str) -> Prompt:
-        """The (cached) prompt of ``lmp``."""
+        """The (cached) prompt of ``lmp``, without the examples of ``config.held_out_task``."""
         if lmp not in self._prompts:
-            self._prompts[lmp] = load_prompt(lmp, self.config.prompt_dir)
+            self._prompts[lmp] = load_prompt(lmp, self.config.prompt_dir,
+                                             held_out_task=self.config.held_out_task)
         return self._prompts[lmp]
 
     # ------------------------------------------------------------------------ generation
@@ -148,7 +156,7 @@ class LMPRuntime:
                   attempt: int) -> str:
         request = LLMRequest(messages=tuple(messages), temperature=self.config.temperature,
                              max_tokens=self.config.max_tokens, stop=self.config.stop,
-                             prefix_id=spec.name)
+                             prefix_id=self.prompt(spec.name).prefix_id)
         self.llm_calls += 1
         start = time.monotonic()
         response = self.backend.complete(request)

@@ -35,6 +35,7 @@ ENV_VARS: dict[str, str] = {
     "VOXPOSER_LLM_CACHE": "cache",
     "VOXPOSER_LLM_PREFIX_CACHE": "prefix_cache",
     "VOXPOSER_LLM_CACHE_DIR": "cache_dir",
+    "VOXPOSER_LLM_PREFIX_CACHE_DIR": "prefix_cache_dir",
     "VOXPOSER_LLM_RECORDINGS": "recordings_path",
 }
 MODEL_DIR_ENV = "VOXPOSER_MODEL_DIR"
@@ -113,7 +114,11 @@ class LLMConfig:
         n_threads: CPU threads of in-process models; None = the cores available.
         cache: keep a persistent sqlite cache of responses (keyed by backend, model, request).
         prefix_cache: persist evaluated few-shot prefixes (KV state) to disk ("llama_cpp").
-        cache_dir: directory of both caches; None = ``default_cache_dir()``.
+        cache_dir: directory of the response cache (and of the prefix states unless
+            ``prefix_cache_dir`` is set); None = ``default_cache_dir()``.
+        prefix_cache_dir: directory of the prefix-state (KV) store; None = the cache directory.
+            It caches evaluated prompt prefixes, not responses, so a run with a fresh response
+            cache (``voxposer bench --fresh-cache``) keeps sharing it.
         model_dir: where the default model is assembled; None = ``default_model_dir()``.
         recordings_path: recordings file for "replay".
     """
@@ -131,6 +136,7 @@ class LLMConfig:
     cache: bool = True
     prefix_cache: bool = True
     cache_dir: Path | None = None
+    prefix_cache_dir: Path | None = None
     model_dir: Path | None = None
     recordings_path: Path | None = None
 
@@ -164,6 +170,12 @@ class LLMConfig:
     def resolved_cache_dir(self) -> Path:
         """The cache directory to use (``cache_dir`` or the default)."""
         return self.cache_dir if self.cache_dir is not None else default_cache_dir()
+
+    @property
+    def resolved_prefix_cache_dir(self) -> Path:
+        """The prefix-state store's parent directory (``prefix_cache_dir`` or the cache's)."""
+        return self.prefix_cache_dir if self.prefix_cache_dir is not None else \
+            self.resolved_cache_dir
 
     @property
     def resolved_model_dir(self) -> Path:

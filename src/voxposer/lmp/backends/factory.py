@@ -85,7 +85,7 @@ def _base_backend(config: LLMConfig) -> LLMBackend:
         else:
             path, name, sha = Path(config.model or ""), None, None
         store = (
-            PrefixStateStore(config.resolved_cache_dir / PREFIX_STATE_DIR)
+            PrefixStateStore(config.resolved_prefix_cache_dir / PREFIX_STATE_DIR)
             if config.prefix_cache
             else None
         )

@@ -9,7 +9,9 @@ to a model. Recordings are JSON lines (or a JSON list) of entries of two forms:
   "attempt": 1, "response": "..."}`` — matched by the sha256 of the whole request;
 * hand-written, for tests: ``{"lmp": "get_affordance_map", "query": "...", "responses":
   ["<attempt 1>", "<attempt 2>"]}`` (or ``"response"`` with an optional ``"attempt"``) — matched by
-  the LMP (the request's ``prefix_id``), the query and the self-correction attempt.
+  the LMP (the request's ``prefix_id``; for an "unseen instruction" fold's prefix id such as
+  ``composer~push_to_pos``, an entry for exactly that id, else for its LMP ``composer``), the
+  query and the self-correction attempt.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from typing import Any
 from voxposer.errors import LLMError
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 from voxposer.lmp.prompt import request_query
+from voxposer.lmp.prompt_tags import lmp_of
 
 
 def load_recordings(path: str | Path) -> list[dict[str, Any]]:
@@ -86,6 +89,8 @@ class ReplayBackend(LLMBackend):
         else:
             query, attempt = request_query(request.messages)
             text = self._by_query.get((request.prefix_id or "", query, attempt))
+            if text is None:  # a fold's prefix id ("composer~push_to_pos"): its LMP's entry
+                text = self._by_query.get((lmp_of(request.prefix_id), query, attempt))
             if text is None:
                 raise LLMError(
                     f"replay: no recording for {request.prefix_id}({query!r}) attempt {attempt} "
@@ -114,7 +119,7 @@ class RecordingBackend(LLMBackend):
         response = self.inner.complete(request)
         query, attempt = request_query(request.messages)
         entry = {"key": request.key(self.inner.name, self.inner.model), "backend": self.inner.name,
-                 "model": self.inner.model, "lmp": request.prefix_id, "query": query,
+                 "model": self.inner.model, "lmp": lmp_of(request.prefix_id), "query": query,
                  "attempt": attempt, "response": response.text}
         with self._lock, self.path.open("a", encoding="utf-8") as fh:
             fh.write(json.dumps(entry, ensure_ascii=False) + "\n")
