@@ -54,8 +54,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--disturb",
         action="store_true",
-        help="apply the paper's disturbances during the rollout (robot push, object "
-        "displacement, reverting progress)",
+        help="apply the paper's disturbances during the rollout: robot push, object "
+        "displacement, reverting progress, at 20/40/60%% of a sub-task's progress",
     )
     p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
@@ -137,46 +137,13 @@ def _progress_backend(backend: Any, progress: _Progress) -> Any:
     return ProgressBackend()
 
 
-class _Disturber:
-    """Applies the paper's three disturbance kinds during a rollout (``--disturb``, App. A.4).
-
-    At 2, 4 and 6 simulated seconds after the first replan: a random force on the robot, a
-    displacement of the entity (or of a block when the entity is the gripper), and — only when
-    the entity is an object part such as a drawer — reverting task progress.
-    """
-
-    SCHEDULE = ((2.0, "push_robot"), (4.0, "displace_object"), (6.0, "revert_progress"))
-
-    def __init__(self, world: Any, rng: np.random.Generator) -> None:
-        self.world, self.rng = world, rng
-        self.start: float | None = None
-        self.applied: list[dict[str, Any]] = []
-        self._pending = list(self.SCHEDULE)
-
-    def __call__(self, result: Any, plan: Any) -> None:
-        now = float(self.world.data.time)
-        self.start = now if self.start is None else self.start
-        while self._pending and now - self.start >= self._pending[0][0]:
-            _, kind = self._pending.pop(0)
-            record = self._apply(kind, result.entity)
-            if record is not None:
-                self.applied.append({"kind": kind, "sim_time": round(now, 2),
-                                     "record": repr(record)})
-
-    def _apply(self, kind: str, entity: str) -> Any:
-        if kind == "push_robot":
-            return self.world.push_robot(self.rng)
-        if kind == "displace_object":
-            blocks = [n for n in self.world.object_names if n.endswith("block")]
-            name = entity if entity in blocks else (blocks[0] if blocks else None)
-            return None if name is None else self.world.displace_object(self.rng, name)
-        if "drawer" in entity:  # reverting progress applies to object parts only
-            return self.world.revert_progress(self.rng, entity.split()[0])
-        return None
+#: how far [m] a drawer the instruction asks to close is open at the start.
+CLOSE_OPENING_M = 0.15
 
 
 def scene_layout(instruction: str) -> Any:
-    """A default scene for an instruction: every block and line it names, plus distractors."""
+    """A default scene for an instruction: every block and line it names, plus distractors; a
+    drawer it asks to close starts open (``CLOSE_OPENING_M``)."""
     from voxposer.envs import COLORS
     from voxposer.envs.layout import SceneLayout
 
@@ -185,8 +152,10 @@ def scene_layout(instruction: str) -> Any:
         kind: tuple(c for c in COLORS if re.search(rf"\b{c}\s+{kind}", text))
         for kind in ("block", "line")
     }
+    to_close = re.findall(r"\bclose the (top|middle|bottom) drawer", text)
     return SceneLayout(
-        blocks=named["block"], lines=named["line"], extra_blocks=(3, 5), extra_lines=(2, 3)
+        blocks=named["block"], lines=named["line"], extra_blocks=(3, 5), extra_lines=(2, 3),
+        drawer_openings={which: CLOSE_OPENING_M for which in to_close},
     )
 
 
@@ -226,6 +195,7 @@ def run(args: argparse.Namespace) -> int:
 def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> None:
     """Build the world and the LMPs, run the instruction, fill ``summary`` as it goes."""
     from voxposer.control import ExecutorConfig
+    from voxposer.control.disturbance_schedule import DisturbanceSchedule, Disturber
     from voxposer.control.recording import VideoRecorder
     from voxposer.control.world_executor import WorldExecutor
     from voxposer.envs import TabletopWorld
@@ -236,18 +206,24 @@ def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> No
     progress = _Progress(args.instruction)
     rng = np.random.default_rng(args.seed)
     world = TabletopWorld()
-    world.reset(rng, scene_layout(args.instruction))
+    layout = scene_layout(args.instruction)
+    world.reset(rng, layout)
     backend = _progress_backend(_backend(args), progress)
     summary["model"] = backend.model
     executor = WorldExecutor(world, rng, ExecutorConfig(max_time_s=args.max_time), picture_dir=out)
-    disturber = _Disturber(world, rng) if args.disturb else None
+    disturber = None
+    if args.disturb:  # on sub-task progress (voxposer.control.disturbance_schedule)
+        relevant = tuple(f"{c} block" for c in layout.blocks)
+        disturber = Disturber(world, rng.spawn(1)[0], relevant,
+                              schedule=DisturbanceSchedule(
+                                  reach_tolerance_m=executor.config.reach_tolerance_m))
 
     def on_replan(result: Any, plan: Any) -> None:
         progress.replans += 1
         progress.hz = result.replan_hz
         progress.distance = result.final_distance
         if disturber is not None:
-            disturber(result, plan)
+            disturber.on_replan(result, plan)
 
     def on_subtask(subtask: str) -> None:
         progress.subtask = subtask

@@ -31,6 +31,8 @@ class ExecutorConfig:
         max_pushes: pushes allowed for an object entity before giving up.
         carry_radius_m: an object whose centre is this close to the closed hand is carried, not
             pushed [m].
+        carry_min_opening_m: … if the closed fingers are at least this far apart (closed on
+            something) [m].
         ee_planner: planner parameters when the end effector is the entity.
         object_planner: planner parameters when an object or part is the entity.
         push: random-shooting MPC parameters.
@@ -44,6 +46,7 @@ class ExecutorConfig:
     min_progress_m: float = 0.005
     max_pushes: int = 25
     carry_radius_m: float = 0.08
+    carry_min_opening_m: float = 0.02
     ee_planner: PlannerConfig = field(
         default_factory=lambda: PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=1.0))
     )
@@ -58,6 +61,7 @@ class ExecutorConfig:
             "lookahead_m",
             "min_progress_m",
             "carry_radius_m",
+            "carry_min_opening_m",
         ):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):

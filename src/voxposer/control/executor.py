@@ -64,6 +64,7 @@ class World(Protocol):
     ) -> Any: ...
     def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
     def get_gripper_state(self) -> float: ...
+    def gripper_opening(self) -> float: ...
 
 
 @dataclass
@@ -196,8 +197,12 @@ class ClosedLoopExecutor:
         return result
 
     def _carry_offset(self, entity: Any) -> NDArray[np.float64] | None:
-        """Object centre − end effector [m], shape (3,), when ``entity`` is in the closed hand."""
+        """Object centre − end effector [m], shape (3,), when ``entity`` is in the closed hand
+        (closed on something: fingers at least ``carry_min_opening_m`` apart — after a push the
+        hand is closed on nothing next to the block it pushed)."""
         if self.world.get_gripper_state() < 0.5:
+            return None
+        if float(self.world.gripper_opening()) < self.config.carry_min_opening_m:
             return None
         offset = np.asarray(entity["position"], dtype=np.float64) - self.world.get_ee_pose()[0]
         return offset if float(np.linalg.norm(offset)) <= self.config.carry_radius_m else None

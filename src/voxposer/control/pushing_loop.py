@@ -79,6 +79,8 @@ def run_object(
         if previous is not None:
             moved = float((centre - previous) @ (offset / max(dist, 1e-9)))
             stuck = stuck + 1 if moved < cfg.min_progress_m else 0
+            if axis is not None and moved < -cfg.min_progress_m:
+                stuck = 0  # a part pulled back (e.g. a drawer reopened) is not at its end
             if axis is not None and stuck >= END_OF_TRAVEL_PUSHES:
                 return loop.finish(
                     result,

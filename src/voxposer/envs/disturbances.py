@@ -2,7 +2,9 @@
 
 1. :meth:`~DisturbanceMixin.push_robot`: a random external force on a robot link for a while;
 2. :meth:`~DisturbanceMixin.displace_object`: move a task-relevant or distractor block elsewhere;
-3. :meth:`~DisturbanceMixin.revert_progress`: undo task progress, e.g. pull a drawer back open.
+3. :meth:`~DisturbanceMixin.revert_progress`: undo task progress, e.g. pull a drawer back open
+   (:meth:`~DisturbanceMixin.pull_drawer`: by a force, through physics);
+   :meth:`~DisturbanceMixin.return_object` puts a pushed block back toward its start.
 """
 
 from __future__ import annotations
@@ -13,12 +15,12 @@ from typing import Any
 
 import mujoco
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from voxposer.envs.config import DRAWERS, WorldConfig
 from voxposer.envs.layout import PLACE_MAX, PLACE_MIN
 from voxposer.envs.registry import ObjectRegistry
-from voxposer.envs.robot_model import PREFIX
+from voxposer.envs.robot_model import EE_SITE, PREFIX
 from voxposer.envs.scene import DRAWER_TRAVEL
 from voxposer.errors import LayoutError
 
@@ -111,6 +113,72 @@ class DisturbanceMixin:
         mujoco.mj_forward(self.model, self.data)
         self._obs = None
         return Disturbance("displace", obj.name, before, after, 0.0, float(self.data.time))
+
+    def return_object(self, rng: np.random.Generator, name: str, to: ArrayLike, *,
+                      undo: tuple[float, float] = (0.5, 1.0), hand_clearance: float = 0.06
+                      ) -> Disturbance:
+        """Undo a random fraction ``undo`` of a block's progress: move it from where it is back
+        toward ``to`` (x, y[, z]) [m], e.g. where a push started, onto a free spot at least
+        ``hand_clearance`` [m] (horizontally) from the hand.
+
+        Raises:
+            LayoutError: the block is not present, has not moved 2 cm from ``to``, or no free
+                spot was found.
+        """
+        blocks = [n for n in self._present if n.endswith(" block")]
+        obj = self.registry.resolve(name, tuple(blocks))
+        adr = self.model.joint(f"{obj.body}_joint").qposadr[0]
+        dof = self.model.joint(f"{obj.body}_joint").dofadr[0]
+        before = self.data.qpos[adr:adr + 3].copy()
+        back = np.asarray(to, dtype=np.float64).reshape(-1)[:2] - before[:2]
+        if float(np.linalg.norm(back)) < 0.02:
+            raise LayoutError(f"the {obj.name} has made no progress to revert")
+        others = [self.data.xpos[self.model.body(self.registry.resolve(b).body).id][:2]
+                  for b in blocks if b != obj.name]
+        hand = self.data.site_xpos[self.model.site(EE_SITE).id][:2]
+        clearance = self.config.block_size * 1.6
+        for _ in range(50):
+            xy = before[:2] + float(rng.uniform(*undo)) * back
+            inside = np.all(xy >= PLACE_MIN) and np.all(xy <= PLACE_MAX)
+            if inside and np.linalg.norm(xy - hand) >= hand_clearance and all(
+                    np.linalg.norm(xy - o) >= clearance for o in others):
+                break
+        else:
+            raise LayoutError(f"no free spot found to put the {obj.name} back")
+        after = np.array([xy[0], xy[1], self.config.block_size / 2])
+        self.data.qpos[adr:adr + 3] = after
+        self.data.qvel[dof:dof + 6] = 0.0
+        mujoco.mj_forward(self.model, self.data)
+        self._obs = None
+        return Disturbance("revert", obj.name, before, after, 0.0, float(self.data.time))
+
+    def pull_drawer(self, rng: np.random.Generator, drawer: str | None = None, *,
+                    force: tuple[float, float] = (30.0, 50.0), duration: float = 0.1
+                    ) -> Disturbance:
+        """Yank a drawer (``drawer`` or a random one) open: a random force [N] along its
+        opening direction for ``duration`` [s] (a free drawer opens most of its travel).
+
+        Unlike :meth:`revert_progress` the drawer moves by physics: a hand in front of it is
+        pushed back, not passed through. The force acts during the next physics steps
+        (replacing a force of :meth:`push_robot` still acting).
+
+        Raises:
+            LayoutError: the cabinet is not in the scene.
+        """
+        if "cabinet" not in self._present:
+            raise LayoutError("the cabinet is not in the scene; there is no progress to revert")
+        which = (drawer or str(rng.choice(DRAWERS))).lower().removesuffix(" drawer").strip()
+        obj = self.registry.resolve(f"{which} drawer", self._present)
+        joint = self.model.joint(f"{obj.body}_joint")
+        body = int(self.model.jnt_bodyid[joint.id])
+        axis = self.data.xmat[body].reshape(3, 3) @ \
+            self.model.jnt_axis[joint.id]
+        pull = axis / np.linalg.norm(axis) * float(rng.uniform(*force))
+        steps = max(1, round(duration / self.config.timestep))
+        self._force = (body, np.concatenate([pull, np.zeros(3)]), steps)
+        opening = float(self.data.qpos[joint.qposadr[0]])
+        return Disturbance("revert", obj.name, np.array([opening]), pull, duration,
+                           float(self.data.time))
 
     def revert_progress(self, rng: np.random.Generator, drawer: str | None = None, *,
                         opening: tuple[float, float] = (0.10, 0.18)) -> Disturbance:

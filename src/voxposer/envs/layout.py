@@ -57,6 +57,9 @@ class SceneLayout:
         drawer_openings: drawer ("top", "middle", "bottom" or "top drawer") → opening [m],
             0 (closed) to 0.2; drawers not named are closed.
         poses: object name → (x, y) or (x, y, yaw) [m, m, rad] for objects placed by hand.
+        ee_start: where the end effector starts, top-down, position [m]; None: the rest pose.
+        ee_start_yaw: … turned this much about the vertical [rad] (0: the fingers open along y;
+            pi/2: along x).
     """
 
     blocks: tuple[str, ...] = ()
@@ -66,6 +69,8 @@ class SceneLayout:
     cabinet: bool = True
     drawer_openings: Mapping[str, float] = field(default_factory=dict)
     poses: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    ee_start: tuple[float, float, float] | None = None
+    ee_start_yaw: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "blocks", tuple(_colour(b, "block") for b in self.blocks))

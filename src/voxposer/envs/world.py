@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
 
 from voxposer.envs.actions import check_command
 from voxposer.envs.config import DRAWERS, WorldConfig
@@ -33,7 +34,12 @@ from voxposer.envs.robot_model import (
 )
 from voxposer.envs.scene import PARKING_Z, build_scene
 from voxposer.envs.sensing import SensingMixin
-from voxposer.errors import SimulationUnstableError, UnreachablePoseError
+from voxposer.errors import (
+    LayoutError,
+    SimulationUnstableError,
+    UnreachablePoseError,
+    VoxPoserError,
+)
 from voxposer.valuemaps.maps import TOP_DOWN_QUAT as _TOP_DOWN
 
 log = logging.getLogger(__name__)
@@ -165,7 +171,25 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
         self._present = tuple(present)
         self._obs = None
         self.advance(25)
+        if layout.ee_start is not None:
+            self._move_to_start(layout.ee_start, layout.ee_start_yaw)
         return placement
+
+    def _move_to_start(self, position: tuple[float, float, float], yaw: float = 0.0) -> None:
+        """Move the end effector top-down, turned ``yaw`` [rad] about the vertical, to
+        ``position`` [m] (a layout's start pose).
+
+        Raises:
+            LayoutError: the pose cannot be reached.
+        """
+        quat = (Rotation.from_euler("z", yaw) * Rotation.from_quat(TOP_DOWN_QUAT)).as_quat()
+        try:
+            result = self.move_to_pose(position, quat)
+        except VoxPoserError as err:
+            raise LayoutError(f"the start pose {position} is unreachable: {err}") from err
+        if not result.reached:
+            raise LayoutError(f"the start pose {position} was missed by "
+                              f"{result.position_error * 100:.1f} cm")
 
     # -------------------------------------------------------------- physics
     def advance(self, nsteps: int) -> None:
