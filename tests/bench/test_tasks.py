@@ -91,26 +91,42 @@ def test_move_to_preposition(world) -> None:
 
 
 def test_staying_on_preposition(world) -> None:
+    """Passing the block on the named side succeeds; passing on the other side, over it, or
+    never passing it fails."""
     task, _ = _setup(world, "move_to_pos_staying_on_preposition")
     obj = "blue block"
-    b = np.array([-0.1, 0.2, 0.025])
-    attrs = {"pos": "left side of the table", "preposition": "left of", "obj": obj}
+    attrs = {"pos": "back side of the table", "preposition": "left of", "obj": obj}
     end = np.array([*get_place(attrs["pos"]).point, 0.05])
-    path = _line([-0.23, 0.0, 0.47], end)
-    assert task.check(world, _trace(path, {obj: b}), attrs, TOL).success
-    detour = path.copy()
-    detour[20:30, 1] = 0.22  # crosses to the right of the block's left face
-    assert not task.check(world, _trace(detour, {obj: b}), attrs, TOL).success
-    assert not task.check(world, _trace(path[:30], {obj: b}), attrs, TOL).success  # not there
+    start = end + [0.28, 0.0, 0.01]
+    b = np.array([end[0] + 0.14, -0.01, 0.025])
+    path = _line(start, end)
+    left = path.copy()
+    left[20:40, 1] = -0.07  # beyond the left face (y = -0.035) while level with the block
+    verdict = task.check(world, _trace(left, {obj: b}), attrs, TOL)
+    assert verdict.success, verdict.reason
+    right = path.copy()
+    right[20:40, 1] = 0.05  # round the other side
+    assert not task.check(world, _trace(right, {obj: b}), attrs, TOL).success
+    over = path.copy()
+    over[20:40, 2] = 0.09  # over the top is not on its left
+    assert not task.check(world, _trace(over, {obj: b}), attrs, TOL).success
+    assert not task.check(world, _trace(left[:15], {obj: b}), attrs, TOL).success  # never passed
+    top = {**attrs, "preposition": "top of"}
+    over_top = path.copy()
+    over_top[20:40, 1:] = (-0.01, 0.08)
+    assert task.check(world, _trace(over_top, {obj: b}), top, TOL).success
+    assert not task.check(world, _trace(left, {obj: b}), top, TOL).success  # beside it
 
 
 def test_velocity_near_obj(world) -> None:
+    """Inside [dist] of the block's faces the speed must match the word; the zone counts from
+    the faces, so a path 8 cm from the centre is inside a 6 cm zone."""
     task, attrs = _setup(world, "move_to_pos_velocity_near_obj")
     obj = attrs["obj"]
-    attrs = {**attrs, "pos": "back left corner of the table", "dist": "10",
+    attrs = {**attrs, "pos": "back left corner of the table", "dist": "6",
              "velocity": "a quarter of the speed"}
     end = np.array([*get_place(attrs["pos"]).point, 0.05])
-    block = end + [0.15, 0.0, -0.025]
+    block = end + [0.15, 0.08, -0.025]  # 8 cm beside the path: 5.5 cm from its faces
     slow = _line(end + [0.4, 0, 0], end, 400)  # 0.4 m in 8 s: 0.05 m/s = 0.2x
     fast = _line(end + [0.4, 0, 0], end, 40)  # 0.5 m/s = 2x
     assert task.check(world, _trace(slow, {obj: block}), attrs, TOL).success
@@ -194,14 +210,16 @@ def test_move_to_region(world) -> None:
 
 
 def test_min_distance(world) -> None:
+    """The distance counts from the block's faces: 9 cm from the centre is only 6.5 cm away."""
     task, _ = _setup(world, "move_to_pos_min_distance")
     obj = "blue block"
     attrs = {"pos": "front left corner of the table", "dist": "7", "obj": obj}
     end = np.array([*get_place(attrs["pos"]).point, 0.05])
-    path = _line([-0.23, 0, 0.47], end)
-    far = path[30] + [0, 0.10, -0.05]
-    near = path[30] + [0, 0.05, 0.0]
-    assert task.check(world, _trace(path, {obj: far}), attrs, TOL).success
+    path = _line([-0.23, 0, 0.10], end)
+    far = path[30] + [0, 0.11, -0.075]
+    near = path[30] + [0, 0.09, -0.075]
+    verdict = task.check(world, _trace(path, {obj: far}), attrs, TOL)
+    assert verdict.success, verdict.reason
     assert not task.check(world, _trace(path, {obj: near}), attrs, TOL).success
 
 

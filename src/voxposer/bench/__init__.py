@@ -6,7 +6,9 @@ Public API:
   template, seen/unseen attributes, reset, success check and reference programs.
 * :class:`Tolerances` — every success threshold, in one place; :data:`PLACES` — table regions.
 * :func:`reset_episode`, :func:`run_episode`, :class:`EpisodeJob` — one episode.
-* :class:`BenchConfig`, :func:`run_bench` — many episodes in parallel, appended to a JSONL.
+* :class:`BenchConfig`, :func:`run_bench` — many episodes in parallel, appended to a JSONL;
+  seed sets and instruction splits in :mod:`voxposer.bench.protocol`, code versions in
+  :mod:`voxposer.bench.version`.
 * :data:`METHODS` — "voxposer" and "llm_primitives" (the LLM + Primitives baseline, App. A.4).
 * CLI: ``voxposer bench`` (:mod:`voxposer.bench.bench_cmd`).
 """

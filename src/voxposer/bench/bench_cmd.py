@@ -4,7 +4,15 @@ Writes to ``--out``: ``episodes.jsonl`` (one record per episode, appended as eac
 ``report.md`` (Table 4 layout beside the paper, Table 2-style aggregates, tolerances) and
 ``success.png``. ``--llm reference`` runs hand-written reference programs instead of an LLM —
 it measures perception, planning, control and the checks, never the language model, and every
-report says so. Ctrl-C keeps the finished episodes and writes the report; ``--resume`` continues.
+report says so; ``--llm reference-blind`` runs their constraint-blind control (tasks without a
+constraint are skipped). ``--seeds dev|test`` picks the seed set (``voxposer.bench.protocol``),
+``--instructions unseen`` holds each task's few-shot examples out of the prompts, and
+``--fresh-cache`` answers from an empty response cache in ``<out>/cache/``. ``--video
+failures|all`` records an MP4 per failed (or every) episode into ``<out>/videos/``, linked from
+the report's failure modes; ``--disturb`` runs the episodes with the paper's disturbances
+(Table 1; their records are ``disturbed`` and may share a file with static ones, and the report
+puts both side by side). Ctrl-C keeps the finished episodes and writes the report; ``--resume``
+continues (same code version only, unless ``--allow-mixed-versions``).
 """
 
 from __future__ import annotations
@@ -27,7 +35,8 @@ from rich.progress import (
 
 from voxposer.bench.attributes import SPLITS
 from voxposer.bench.config import Tolerances
-from voxposer.bench.methods import METHODS
+from voxposer.bench.methods import METHODS, REFERENCE_BLIND
+from voxposer.bench.protocol import INSTRUCTION_SPLITS, SEED_SETS
 from voxposer.bench.runner import LLM_CHOICES, BenchConfig, run_bench
 from voxposer.bench.tasks import TASKS
 
@@ -43,10 +52,19 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    help=f"comma-separated task names or 'all' (tasks: {', '.join(TASKS)})")
     p.add_argument("--splits", default="seen,unseen", help="seen, unseen or both")
     p.add_argument("--episodes", type=int, default=20, help="episodes per task and split")
-    p.add_argument("--seed", type=int, default=0, help="first episode seed")
+    p.add_argument("--seeds", default=None,
+                   help="seed set: " + ", ".join(f"{s.name} ({s.first}-{s.last})"
+                                                 for s in SEED_SETS.values())
+                   + "; runs its first --episodes seeds (default: dev, unless --seed)")
+    p.add_argument("--seed", type=int, default=None,
+                   help="ad-hoc run: first episode seed (instead of --seeds)")
+    p.add_argument("--instructions", default="seen",
+                   help=f"instruction split, one of: {', '.join(INSTRUCTION_SPLITS)} (unseen: "
+                   "each task's few-shot examples are held out of every prompt; LLMs only)")
     p.add_argument("--method", default="voxposer", help=f"one of: {', '.join(METHODS)}")
     p.add_argument("--llm", default="default", choices=LLM_CHOICES,
-                   help="LLM backend; 'reference' = hand-written reference programs (no LLM)")
+                   help="LLM backend; 'reference' = hand-written reference programs (no LLM); "
+                   "'reference-blind' = the same minus the constraint's map (control)")
     p.add_argument("--model", default=None, help="model name (openai) or GGUF path (llama_cpp)")
     p.add_argument("--base-url", default=None, help="OpenAI-compatible endpoint URL")
     p.add_argument("--recordings", type=Path, default=None, help="recordings (--llm replay)")
@@ -58,6 +76,18 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, default=None,
                    help="output folder (default runs/bench/<method>-<llm>)")
     p.add_argument("--resume", action="store_true", help="continue the episodes.jsonl in --out")
+    p.add_argument("--allow-mixed-versions", action="store_true",
+                   help="resume, and report, records of different code versions together")
+    p.add_argument("--fresh-cache", action="store_true",
+                   help="answer from a response cache of this run only (<out>/cache/, empty at "
+                   "the start); the prefix-state cache stays shared")
+    p.add_argument("--video", default="none",
+                   help="record an MP4 per episode into <out>/videos/: none, failures (kept for "
+                   "failed episodes only) or all")
+    p.add_argument("--disturb", action="store_true",
+                   help="apply the paper's disturbances (robot push, object displacement, "
+                   "reverting progress) on a schedule of each sub-task's progress; records are "
+                   "marked disturbed, so --resume can add them beside static ones")
     p.add_argument("--no-plot", action="store_true", help="skip success.png")
     p.set_defaults(func=run)
     return p
@@ -72,34 +102,55 @@ def _config(args: argparse.Namespace) -> BenchConfig:
     if args.workers is not None:
         kwargs["workers"] = args.workers
     return BenchConfig(tasks=tasks, splits=tuple(s.strip() for s in args.splits.split(",")),
-                       episodes=args.episodes, seed=args.seed, method=args.method, llm=args.llm,
+                       episodes=args.episodes, seeds=args.seeds, seed=args.seed,
+                       method=args.method, llm=args.llm, instructions=args.instructions,
                        executor=args.executor, ray_address=args.ray_address,
-                       max_time_s=args.max_time, llm_overrides=overrides, **kwargs)
+                       max_time_s=args.max_time, llm_overrides=overrides,
+                       fresh_cache=args.fresh_cache, video=args.video, disturb=args.disturb,
+                       **kwargs)
 
 
 def write_outputs(records: list[dict[str, Any]], out: Path, plot: bool,
-                  wall_rates: dict[str, float] | None = None) -> Path:
-    """Write report.md (and success.png); returns the report's path."""
-    from voxposer.bench.report import markdown
+                  wall_rates: dict[str, float] | None = None, allow_mixed: bool = False) -> Path:
+    """Write report.md (and success.png); returns the report's path (ConfigError when the
+    records mix code versions and not ``allow_mixed``)."""
+    from voxposer.bench.report import main_records, markdown
 
     report = out / "report.md"
-    text = markdown(records, Tolerances(), wall_rates)
+    text = markdown(records, Tolerances(), wall_rates, allow_mixed=allow_mixed, out=out)
     report.write_text(text, encoding="utf-8")
     if plot and records:
         from voxposer.bench.plot import write_chart
 
-        write_chart(records, out / "success.png")
+        write_chart(main_records(records)[0], out / "success.png")
     return report
+
+
+def _default_out(cfg: BenchConfig) -> str:
+    """``<method>-<llm>`` plus the non-default seed set and instruction split."""
+    name = f"{cfg.method}-{cfg.llm}"
+    if cfg.seed_set != "dev":
+        name += f"-{cfg.seed_set}"
+    return name + ("-unseen-instructions" if cfg.instructions == "unseen" else "")
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the benchmark; exit status 0 when it completed (whatever the success rates)."""
     cfg = _config(args)
-    out = args.out or Path("runs") / "bench" / f"{cfg.method}-{cfg.llm}"
+    out = args.out or Path("runs") / "bench" / _default_out(cfg)
     results = out / "episodes.jsonl"
     if cfg.llm == "reference":
         console.print("[bold yellow]reference programs[/]: hand-written programs replace the LLM "
                       "(measures perception, planning, control and checks only)")
+    if cfg.llm == REFERENCE_BLIND:
+        console.print("[bold yellow]constraint-blind control[/]: reference programs minus the "
+                      "constraint's map (no LLM); a task tests its constraint only if this fails")
+        if cfg.skipped_tasks:
+            console.print(f"skipped (no constraint, so no blind control): "
+                          f"{', '.join(cfg.skipped_tasks)}")
+    console.print(f"seeds: {cfg.seed_set} {cfg.seed_list().start}-{cfg.seed_list().stop - 1}; "
+                  f"instructions: {cfg.instructions}; disturbances: "
+                  f"{'on' if cfg.disturb else 'off'}; videos: {cfg.video}")
     progress = Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                         MofNCompleteColumn(), TextColumn("{task.fields[rate]}"),
                         TimeElapsedColumn(), TimeRemainingColumn(), console=console)
@@ -124,7 +175,8 @@ def run(args: argparse.Namespace) -> int:
     with progress:
         try:
             records = run_bench(cfg, results, resume=args.resume, on_record=on_record,
-                                on_start=on_start)
+                                on_start=on_start,
+                                allow_mixed_versions=args.allow_mixed_versions)
         except KeyboardInterrupt:
             interrupted = True
     if interrupted:
@@ -135,7 +187,8 @@ def run(args: argparse.Namespace) -> int:
                       "continue with --resume")
     hours = (time.perf_counter() - started) / 3600
     rates = {f"{cfg.method}/{cfg.llm}": counts["n"] / hours} if counts["n"] and hours > 0 else {}
-    report = write_outputs(records, out, plot=not args.no_plot, wall_rates=rates)
+    report = write_outputs(records, out, plot=not args.no_plot, wall_rates=rates,
+                           allow_mixed=args.allow_mixed_versions)
     console.print(report.read_text(encoding="utf-8").split("## Task categories")[0], markup=False,
                   highlight=False)
     console.print(f"wrote [bold]{report}[/], [bold]{results}[/]"

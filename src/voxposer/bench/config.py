@@ -78,7 +78,7 @@ class Tolerances:
     velocity_bands: Mapping[str, tuple[float, float]] = field(default_factory=_default_bands)
     drawer_closed_m: float = 0.02
     line_band_m: float = 0.04
-    line_progress_m: float = 0.08
+    line_progress_m: float = 0.14
     push_min_displacement_m: float = 0.05
     obstacle_clearance_m: float = 0.07
     moved_max_m: float = 0.03

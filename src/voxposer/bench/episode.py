@@ -14,10 +14,14 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from voxposer.bench.config import Tolerances
-from voxposer.bench.methods import get_method
+from voxposer.bench.disturb import EpisodeDisturbance
+from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
+from voxposer.bench.protocol import ADHOC
 from voxposer.bench.task import reset_episode
 from voxposer.bench.tasks import get_task
 from voxposer.bench.trace import TraceRecorder
+from voxposer.bench.version import code_version
+from voxposer.bench.videos import finish_video, start_video
 from voxposer.errors import VoxPoserError
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 
@@ -31,8 +35,14 @@ class EpisodeJob:
     Attributes:
         task, split, seed: the episode.
         method: "voxposer" or "llm_primitives".
-        llm: "reference" (hand-written programs) or a backend kind of ``LLMConfig``.
+        llm: "reference" (hand-written programs), "reference-blind" (their constraint-blind
+            control) or a backend kind of ``LLMConfig``.
         max_time_s: simulated time limit of each ``execute`` call [s].
+        instructions: "seen", or "unseen" (the task's few-shot examples held out of the prompts).
+        seed_set: the seed set ``seed`` comes from ("dev", "test", or "adhoc").
+        disturbed: with the paper's disturbances (:mod:`voxposer.bench.disturb`).
+        video: "none", "failures" or "all" (:mod:`voxposer.bench.videos`).
+        out_dir: the output folder (videos go to its ``videos/``); None without videos.
     """
 
     task: str
@@ -41,11 +51,17 @@ class EpisodeJob:
     method: str = "voxposer"
     llm: str = "reference"
     max_time_s: float = 40.0
+    instructions: str = "seen"
+    seed_set: str = ADHOC
+    disturbed: bool = False
+    video: str = "none"
+    out_dir: str | None = None
 
     @property
-    def key(self) -> tuple[str, str, str, str, int]:
-        """Identity used by ``--resume``."""
-        return (self.method, self.llm, self.task, self.split, self.seed)
+    def key(self) -> tuple[str, str, str, str, str, int, bool]:
+        """Identity used by ``--resume`` (static and disturbed episodes differ)."""
+        return (self.method, self.llm, self.instructions, self.task, self.split, self.seed,
+                self.disturbed)
 
 
 @dataclass
@@ -57,6 +73,15 @@ class EpisodeRecord:
     seed: int
     method: str
     llm: str
+    #: instruction split ("seen"/"unseen") and seed set ("dev"/"test"/"adhoc") of the run
+    instructions: str = "seen"
+    seed_set: str = ADHOC
+    #: the code version (:mod:`voxposer.bench.version`): package content hash (the identity
+    #: compared by --resume and the report), prompt-file hash, git commit and dirty flag
+    code_hash: str = ""
+    prompt_hash: str = ""
+    git_commit: str | None = None
+    git_dirty: bool | None = None
     instruction: str = ""
     attributes: dict[str, str] = field(default_factory=dict)
     success: bool = False
@@ -73,10 +98,25 @@ class EpisodeRecord:
     completion_tokens: int = 0
     #: what the LLM wrote, in call order: {"lmp", "query", "code"} (for failure analysis)
     programs: list[dict[str, str]] = field(default_factory=list)
+    #: run with the paper's disturbances, and what was applied when ({"kind", "target",
+    #: "sim_time_s", "progress", …}; :mod:`voxposer.control.disturbance_schedule`)
+    disturbed: bool = False
+    disturbances: list[dict[str, Any]] = field(default_factory=list)
+    #: the episode's MP4, relative to the output folder (None: not recorded or not kept)
+    video: str | None = None
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-serialisable dict."""
         return asdict(self)
+
+    @classmethod
+    def for_job(cls, job: EpisodeJob) -> EpisodeRecord:
+        """An empty record of ``job``, stamped with this process's code version."""
+        v = code_version()
+        return cls(job.task, job.split, job.seed, job.method, job.llm,
+                   instructions=job.instructions, seed_set=job.seed_set, code_hash=v.code_hash,
+                   prompt_hash=v.prompt_hash, git_commit=v.commit, git_dirty=v.dirty,
+                   disturbed=job.disturbed)
 
 
 class CountingBackend(LLMBackend):
@@ -108,24 +148,31 @@ class CountingBackend(LLMBackend):
 
 def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
                 tol: Tolerances | None = None) -> EpisodeRecord:
-    """Run ``job`` in ``world``; ``backend`` answers LLM calls (None with ``llm="reference"``)."""
+    """Run ``job`` in ``world``; ``backend`` answers LLM calls (None with reference programs);
+    ``job.disturbed`` adds the paper's disturbances, ``job.video`` records an MP4."""
     tol = tol or Tolerances()
-    rec = EpisodeRecord(job.task, job.split, job.seed, job.method, job.llm)
+    rec = EpisodeRecord.for_job(job)
     t0 = time.perf_counter()
+    video, disturbance = None, None
     try:
         task, method = get_task(job.task), get_method(job.method)
         setup = reset_episode(task, world, job.split, job.seed, tol)
         rec.instruction, rec.attributes = setup.instruction, dict(setup.attributes)
         t1 = time.perf_counter()
-        if job.llm == "reference":
-            backend = method.reference_backend(task, setup.attributes)
+        if job.llm in REFERENCE_LLMS:
+            backend = method.reference_backend(task, setup.attributes,
+                                               blind=job.llm == REFERENCE_BLIND)
         if backend is None:
             raise VoxPoserError(f"episode {job.key} has no LLM backend")
         counting = CountingBackend(backend)
         sim0 = float(world.data.time)
+        if job.disturbed:
+            disturbance = EpisodeDisturbance(world, task, setup.attributes)
+        video = start_video(job, world)
         with TraceRecorder(world, task.tracked(setup.attributes)) as recorder:
             try:
-                method.run(world, counting, setup, job.max_time_s)
+                method.run(world, counting, setup, job.max_time_s, job.instructions,
+                           make_disturber=disturbance)
             except VoxPoserError as err:
                 rec.program_error = f"{type(err).__name__}: {err}"
         t2 = time.perf_counter()
@@ -144,5 +191,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         rec.error = "".join(traceback.format_exception(exc))
         rec.reason = f"error: {type(exc).__name__}: {exc}"
         log.warning("episode %s crashed: %s", job.key, exc)
+    rec.disturbances = [] if disturbance is None else disturbance.applied
+    rec.video = finish_video(job, video, rec.success)
     rec.timings_s["total"] = round(time.perf_counter() - t0, 3)
     return rec

@@ -54,6 +54,14 @@ def block_at_place(pos: NDArray[np.float64], place: Place, tol: Tolerances) -> t
     return True, f"block at the {place.name}"
 
 
+def block_distance(points: NDArray[np.float64], centres: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Distance [m] from ``points`` to the surface of axis-aligned blocks centred at ``centres``
+    (0 inside), both shape (T, 3) → (T,). "Within 5 cm from the block" is measured so: from
+    its faces, not its centre."""
+    gap = np.maximum(np.abs(np.asarray(points) - np.asarray(centres)) - BLOCK_HALF, 0.0)
+    return np.asarray(np.linalg.norm(gap, axis=-1), dtype=np.float64)
+
+
 def max_displacement(trace: Trace, name: str) -> float:
     """Largest distance [m] of ``name`` from where the trace began."""
     p = trace.objects[name]

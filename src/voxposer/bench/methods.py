@@ -1,18 +1,35 @@
 """The methods a benchmark compares: VoxPoser and the "LLM + Primitives" baseline (App. A.4).
 
 A :class:`Method` runs an instruction in a world with a backend, and knows how to build the
-replay backend of a task's reference programs. ``get_method(name)`` lists the known methods.
+replay backend of a task's reference programs (and of their constraint-blind control).
+``get_method(name)`` lists the known methods.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final
+
+import numpy as np
 
 from voxposer.bench.task import BenchTask, EpisodeSetup
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import LLMBackend
 from voxposer.lmp.backends.replay import ReplayBackend
+
+if TYPE_CHECKING:
+    from voxposer.control.disturbance_schedule import Disturber
+
+#: builds an episode's disturber from (its generator, the reach tolerance [m]).
+DisturberFactory = Callable[[np.random.Generator, float], "Disturber"]
+
+#: ``--llm`` value of the hand-written reference programs (no LLM).
+REFERENCE: Final = "reference"
+#: ``--llm`` value of the reference programs minus the constraint's map (no LLM).
+REFERENCE_BLIND: Final = "reference-blind"
+#: the ``--llm`` values served by replayed hand-written programs rather than a model.
+REFERENCE_LLMS: Final = (REFERENCE, REFERENCE_BLIND)
 
 
 @dataclass(frozen=True)
@@ -29,24 +46,60 @@ class Method:
     label: str
     paper_column: str
 
-    def run(self, world: Any, backend: LLMBackend, setup: EpisodeSetup, max_time_s: float) -> None:
-        """Carry out ``setup.instruction`` (raises VoxPoserError when the method fails)."""
+    def run(self, world: Any, backend: LLMBackend, setup: EpisodeSetup, max_time_s: float,
+            instructions: str = "seen", make_disturber: DisturberFactory | None = None) -> None:
+        """Carry out ``setup.instruction`` (raises VoxPoserError when the method fails).
+
+        Args:
+            max_time_s: simulated time limit of each ``execute`` call [s].
+            instructions: "unseen" holds the few-shot examples of ``setup.task`` out of every
+                prompt (leave-one-task-out); "seen" keeps them.
+            make_disturber: builds the episode's :class:`Disturber` from (a generator spawned
+                from ``setup.rng``, the executor's reach tolerance [m]); None: undisturbed.
+                VoxPoser is disturbed on sub-task progress (the executor's ``on_replan``), the
+                baseline, which never replans, on the sim-time schedule
+                (:mod:`voxposer.control.disturbance_schedule`).
+        """
+        from voxposer.control import ExecutorConfig
+        from voxposer.lmp.registry import LMPConfig
+
+        config = LMPConfig(held_out_task=setup.task) if instructions == "unseen" else None
+        exec_config = ExecutorConfig(max_time_s=max_time_s)
+        # the executor's generator is the first child with or without a disturber
+        rng, disturb_rng = setup.rng.spawn(2)
+        disturber = None if make_disturber is None else make_disturber(
+            disturb_rng, exec_config.reach_tolerance_m)
         if self.name == "voxposer":
-            from voxposer.control import ExecutorConfig
             from voxposer.control.world_executor import WorldExecutor
             from voxposer.lmp.runtime import LMPRuntime
             from voxposer.lmp.scene import WorldScene
 
-            (rng,) = setup.rng.spawn(1)
-            executor = WorldExecutor(world, rng, ExecutorConfig(max_time_s=max_time_s))
-            LMPRuntime(WorldScene(world), backend, executor).run(setup.instruction)
+            executor = WorldExecutor(world, rng, exec_config, on_replan=None if disturber is None
+                                     else disturber.on_replan)
+            LMPRuntime(WorldScene(world), backend, executor, config).run(setup.instruction)
         else:
             from voxposer.bench.primitives import PrimitivesRuntime
 
-            PrimitivesRuntime(world, backend).run(setup.instruction)
+            runtime = PrimitivesRuntime(world, backend, config)
+            if disturber is None:
+                runtime.run(setup.instruction)
+            else:
+                with disturber.attach():
+                    runtime.run(setup.instruction)
 
-    def reference_backend(self, task: BenchTask, attrs: dict[str, str]) -> LLMBackend:
-        """A replay backend serving the task's reference programs for ``attrs``."""
+    def reference_backend(self, task: BenchTask, attrs: dict[str, str], *,
+                          blind: bool = False) -> LLMBackend:
+        """A replay backend serving the task's reference programs for ``attrs`` (with
+        ``blind``, its constraint-blind control: the reference minus the constraint's map)."""
+        if blind:
+            if self.name != "voxposer":
+                raise ConfigError(f"constraint-blind controls exist for voxposer only, not "
+                                  f"{self.name!r}")
+            progs = task.blind(attrs)
+            if progs is None:
+                raise ConfigError(f"task {task.name!r} carries no constraint, so it has no "
+                                  "constraint-blind control")
+            return ReplayBackend(progs.entries(), model="reference-blind-programs")
         progs = task.reference(attrs) if self.name == "voxposer" else \
             task.primitives_reference(attrs)
         if progs is None:

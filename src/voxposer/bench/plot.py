@@ -31,7 +31,7 @@ def write_chart(records: list[dict[str, Any]], path: Path) -> Path:
     names = [t.name for t in TASKS.values()]
     fig, axes = plt.subplots(len(groups), 1, figsize=(15, 4.2 * len(groups)), squeeze=False)
     width = 0.2
-    for ax, ((method, llm), cells) in zip(axes[:, 0], groups, strict=True):
+    for ax, ((method, llm, instructions), cells) in zip(axes[:, 0], groups, strict=True):
         column = get_method(method).paper_column
         series = [
             ("ours SA", [cells.get((n, "seen"), Cell()).rate for n in names], "#1f77b4", None),
@@ -50,7 +50,7 @@ def write_chart(records: list[dict[str, Any]], path: Path) -> Path:
                            fontsize=8)
         ax.set_ylim(0, 105)
         ax.set_ylabel("success [%]")
-        ax.set_title(group_label(method, llm))
+        ax.set_title(group_label(method, llm, instructions))
         ax.legend(fontsize=8, ncol=4, loc="lower left")
         ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()

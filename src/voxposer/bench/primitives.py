@@ -102,13 +102,17 @@ class PrimitivesRuntime(LMPRuntime):
     Args:
         world: the :class:`voxposer.envs.TabletopWorld`.
         backend: the language model (the same one VoxPoser uses).
-        config: retries, decoding and sandbox limits.
+        config: retries, decoding and sandbox limits; ``config.held_out_task`` removes that
+            task's few-shot examples from the ``llm_primitives`` prompt too (unseen
+            instructions; the runtime's ``prompt`` loads every prompt with it).
     """
 
     def __init__(self, world: Any, backend: LLMBackend, config: LMPConfig | None = None,
                  **kwargs: Any) -> None:
         super().__init__(WorldScene(world), backend, RecordingExecutor(), config, **kwargs)
         self.primitives = Primitives(world)
+        if self.config.held_out_task is not None:  # the fold of its own prompt fails now
+            self.prompt(PRIMITIVES_SPEC.name)
 
     def run(self, instruction: str) -> None:
         """Have the LLM write primitive code for ``instruction`` and run it (self-correcting

@@ -1,35 +1,42 @@
 """Runs many episodes in parallel worker processes and appends each record to a JSONL file.
 
-One world per worker process (MuJoCo models and renderers are not shared). Each finished
-episode is written and flushed at once, so an interruption loses only the episodes in flight and
-``resume=True`` runs only what the file does not have yet. Executors: ``local`` (a process pool
-of ``workers`` processes; ``workers=1`` runs in this process) and ``ray`` (actors on a Ray
-cluster; needs the ``ray`` extra).
+Each finished episode is written and flushed at once, so an interruption loses only the
+episodes in flight and ``resume=True`` runs only what the file does not have yet (and only with
+the same code version, :mod:`voxposer.bench.results`). Seeds come from a seed set
+(:mod:`voxposer.bench.protocol`) or an ad-hoc first seed. ``fresh_cache`` gives the run its own,
+initially empty response cache in ``<out>/cache/`` (the prefix-state store stays shared).
+Executors (:mod:`voxposer.bench.executors`): ``local`` (a process pool of ``workers``
+processes; ``workers=1`` runs in this process) and ``ray`` (actors on a Ray cluster; needs the
+``ray`` extra).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import logging
-import multiprocessing
 import os
-import signal
-from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
 from voxposer.bench.attributes import SPLITS, check_split
-from voxposer.bench.config import Tolerances
-from voxposer.bench.episode import EpisodeJob, run_episode
-from voxposer.bench.methods import get_method
+from voxposer.bench.episode import EpisodeJob
+from voxposer.bench.executors import run_local, run_ray
+from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
+from voxposer.bench.protocol import ADHOC, DEV_SEEDS, TEST_SEEDS, check_instructions, get_seed_set
+from voxposer.bench.results import check_resumable, load_records, record_key
 from voxposer.bench.tasks import TASKS, get_task
-from voxposer.errors import ConfigError, VoxPoserError
+from voxposer.bench.version import code_version
+from voxposer.bench.videos import check_video_mode
+from voxposer.errors import ConfigError
 
 log = logging.getLogger(__name__)
 
-LLM_CHOICES = ("reference", "default", "llama_cpp", "openai", "replay")
+LLM_CHOICES = ("reference", REFERENCE_BLIND, "default", "llama_cpp", "openai", "replay")
+#: the response-cache folder of a ``fresh_cache`` run, inside the output folder.
+FRESH_CACHE_DIR = "cache"
 
 
 @dataclass(frozen=True)
@@ -39,28 +46,47 @@ class BenchConfig:
     Attributes:
         tasks: task names (default: all 13).
         splits: "seen" and/or "unseen".
-        episodes: episodes per task and split (seeds ``seed`` … ``seed + episodes − 1``).
-        seed: first episode seed.
+        episodes: episodes per task and split.
+        seeds: seed set, "dev" or "test" (the first ``episodes`` seeds of the set); None with
+            ``seed`` given: ad-hoc; None without: "dev".
+        seed: first seed of an ad-hoc run (seeds ``seed`` … ``seed + episodes − 1``), or None.
         method: "voxposer" or "llm_primitives".
-        llm: "reference" (hand-written programs, labelled so) or an LLM backend kind.
+        llm: "reference" (hand-written programs, labelled so), "reference-blind" (their
+            constraint-blind control; tasks without a constraint are skipped) or an LLM
+            backend kind.
+        instructions: "seen", or "unseen" (each task's few-shot examples held out; LLMs only).
         workers: parallel worker processes (default: the machine's cores).
         executor: "local" (process pool) or "ray".
         ray_address: Ray cluster address (None: ``ray.init()``'s default).
         max_time_s: simulated time limit of each ``execute`` call [s].
         llm_overrides: LLMConfig fields for the backend (model, base_url, recordings_path…).
+        fresh_cache: answer from a response cache of this run only (``<out>/cache/``, empty at
+            the start), so no response is reused from earlier runs.
+        video: "none", "failures" (an MP4 per failed episode) or "all"
+            (:mod:`voxposer.bench.videos`).
+        disturb: run the episodes with the paper's disturbances (:mod:`voxposer.bench.disturb`);
+            their records carry ``disturbed=True``, a separate identity from static ones.
+        out_dir: the output folder the workers write videos to (:func:`run_bench` sets it to
+            the results file's folder when None).
     """
 
     tasks: tuple[str, ...] = tuple(TASKS)
     splits: tuple[str, ...] = SPLITS
     episodes: int = 20
-    seed: int = 0
+    seeds: str | None = None
+    seed: int | None = None
     method: str = "voxposer"
     llm: str = "reference"
+    instructions: str = "seen"
     workers: int = field(default_factory=lambda: os.cpu_count() or 1)
     executor: Literal["local", "ray"] = "local"
     ray_address: str | None = None
     max_time_s: float = 40.0
     llm_overrides: dict[str, Any] = field(default_factory=dict)
+    fresh_cache: bool = False
+    video: str = "none"
+    disturb: bool = False
+    out_dir: Path | None = None
 
     def __post_init__(self) -> None:
         for name in self.tasks:
@@ -78,174 +104,134 @@ class BenchConfig:
             raise ConfigError(f"unknown executor {self.executor!r}; executors are: local, ray")
         if not self.max_time_s > 0:
             raise ConfigError(f"BenchConfig.max_time_s must be > 0; got {self.max_time_s!r}")
+        check_video_mode(self.video)
+        self._check_protocol()
+
+    def _check_protocol(self) -> None:
+        """Seeds, instruction split and the reference-blind control."""
+        if self.seeds is not None and self.seed is not None:
+            raise ConfigError(f"give a seed set (seeds={self.seeds!r}) or an ad-hoc first seed "
+                              f"(seed={self.seed!r}), not both")
+        self.seed_list()
+        check_instructions(self.instructions)
+        if self.instructions == "unseen" and self.llm in REFERENCE_LLMS:
+            raise ConfigError(f"instructions='unseen' holds few-shot examples out of the LLM's "
+                              f"prompts; llm={self.llm!r} replays hand-written programs and "
+                              "has no prompts. Use instructions='seen', or an LLM backend")
+        if self.llm == REFERENCE_BLIND:
+            if self.method != "voxposer":
+                raise ConfigError(f"llm={REFERENCE_BLIND!r} (constraint-blind controls) exists "
+                                  f"for method 'voxposer' only; got method={self.method!r}")
+            if len(self.skipped_tasks) == len(self.tasks):
+                constrained = [n for n, t in TASKS.items() if t.constraint is not None]
+                raise ConfigError(f"none of the tasks {', '.join(self.tasks)} carries a "
+                                  f"constraint, so llm={REFERENCE_BLIND!r} has nothing to run; "
+                                  f"tasks with a constraint: {', '.join(constrained) or 'none'}")
+
+    @property
+    def seed_set(self) -> str:
+        """The seed-set label of the run: "dev", "test" or "adhoc"."""
+        if self.seeds is None:
+            return ADHOC if self.seed is not None else DEV_SEEDS.name
+        return self.seeds
+
+    def seed_list(self) -> range:
+        """The episode seeds (each task and split runs every one)."""
+        if self.seed_set == ADHOC:
+            first = int(self.seed or 0)
+            if first < 0:
+                raise ConfigError(f"BenchConfig.seed must be >= 0; got {first}")
+            return range(first, first + self.episodes)
+        return get_seed_set(self.seed_set).seeds(self.episodes)
+
+    @property
+    def skipped_tasks(self) -> tuple[str, ...]:
+        """Tasks of ``tasks`` that are not run: under "reference-blind", those without a
+        constraint (they have no constraint-blind control)."""
+        if self.llm != REFERENCE_BLIND:
+            return ()
+        return tuple(t for t in self.tasks if get_task(t).constraint is None)
 
     def jobs(self) -> list[EpisodeJob]:
         """Every episode, task-major (so partial results cover tasks evenly per seed)."""
-        return [EpisodeJob(t, s, self.seed + k, self.method, self.llm, self.max_time_s)
-                for k in range(self.episodes) for t in self.tasks for s in self.splits]
+        tasks = [t for t in self.tasks if t not in self.skipped_tasks]
+        out = None if self.out_dir is None else str(self.out_dir)
+        return [EpisodeJob(t, s, seed, self.method, self.llm, self.max_time_s,
+                           self.instructions, self.seed_set, self.disturb, self.video, out)
+                for seed in self.seed_list() for t in tasks for s in self.splits]
 
 
-def load_records(path: Path) -> list[dict[str, Any]]:
-    """Records of a results JSONL (a torn last line from an interruption is skipped)."""
+def fresh_cache_dir(results: Path) -> Path:
+    """The response-cache folder of a ``fresh_cache`` run writing ``results``."""
+    return results.parent / FRESH_CACHE_DIR
+
+
+def _cache_entries(directory: Path) -> int:
+    """Responses stored in the response cache of ``directory`` (0 when there is none)."""
+    from voxposer.lmp.backends.cache import ResponseCache
+    from voxposer.lmp.backends.factory import RESPONSE_CACHE_FILE
+
+    path = directory / RESPONSE_CACHE_FILE
     if not path.is_file():
-        return []
-    out = []
-    for line in path.read_text(encoding="utf-8").splitlines():
-        try:
-            out.append(json.loads(line))
-        except json.JSONDecodeError:
-            log.warning("skipping a torn line in %s", path)
-    return out
-
-
-def record_key(r: dict[str, Any]) -> tuple[Any, ...]:
-    """The identity of a record (matches :attr:`EpisodeJob.key`)."""
-    return (r["method"], r["llm"], r["task"], r["split"], r["seed"])
-
-
-# ------------------------------------------------------------------------ worker side
-class _Worker:
-    """One world (and one LLM backend) per worker process."""
-
-    def __init__(self, llm: str, overrides: dict[str, Any]) -> None:
-        from voxposer.envs import TabletopWorld
-
-        self.world = TabletopWorld()
-        self.backend = None
-        if llm != "reference":
-            import dataclasses
-
-            from voxposer.lmp.backends import LLMConfig, make_backend
-
-            config = dataclasses.replace(LLMConfig.from_env(), backend=llm,  # type: ignore[arg-type]
-                                         **overrides)
-            self.backend = make_backend(config)
-        self.tol = Tolerances()
-
-    def run(self, job: EpisodeJob) -> dict[str, Any]:
-        return run_episode(job, self.world, self.backend, self.tol).to_json()
-
-
-_WORKER: _Worker | None = None
-
-
-def _init_process(llm: str, overrides: dict[str, Any]) -> None:
-    global _WORKER
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
-    _WORKER = _Worker(llm, overrides)
-
-
-def _run_in_process(job: EpisodeJob) -> dict[str, Any]:
-    if _WORKER is None:  # pragma: no cover - the initializer always runs first
-        raise VoxPoserError("worker process was not initialised")
-    return _WORKER.run(job)
-
-
-# ------------------------------------------------------------------------ executors
-def _local(cfg: BenchConfig, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
-    if cfg.workers == 1:
-        worker = _Worker(cfg.llm, cfg.llm_overrides)
-        for job in jobs:
-            yield worker.run(job)
-        return
-    pool = ProcessPoolExecutor(max_workers=min(cfg.workers, len(jobs)),
-                               mp_context=multiprocessing.get_context("spawn"),
-                               initializer=_init_process, initargs=(cfg.llm, cfg.llm_overrides))
-    futures: dict[Future[dict[str, Any]], EpisodeJob] = {
-        pool.submit(_run_in_process, job): job for job in jobs}
+        return 0
+    cache = ResponseCache(path)
     try:
-        pending = set(futures)
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in done:
-                try:
-                    yield fut.result()
-                except Exception as exc:
-                    job = futures[fut]
-                    yield _error_record(job, exc)
-        pool.shutdown(wait=True)
+        return len(cache)
     finally:
-        if any(not f.done() for f in futures):  # interrupted: stop the workers now
-            pool.shutdown(wait=False, cancel_futures=True)
-            for proc in list(getattr(pool, "_processes", {}).values()):
-                proc.terminate()
+        cache.close()
 
 
-def _error_record(job: EpisodeJob, exc: BaseException) -> dict[str, Any]:
-    from voxposer.bench.episode import EpisodeRecord
-
-    rec = EpisodeRecord(job.task, job.split, job.seed, job.method, job.llm)
-    rec.error = f"{type(exc).__name__}: {exc}"
-    rec.reason = f"error: worker failed: {exc}"
-    return rec.to_json()
-
-
-class _RayWorker:  # wrapped by ray.remote at run time
-    def __init__(self, llm: str, overrides: dict[str, Any]) -> None:
-        self.worker = _Worker(llm, overrides)
-
-    def run(self, job: EpisodeJob) -> dict[str, Any]:
-        return self.worker.run(job)
-
-
-def _ray(cfg: BenchConfig, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
-    try:
-        import ray
-    except ImportError as exc:
-        raise VoxPoserError("--executor ray needs Ray, which is not installed; install the "
-                            "extra: pip install 'voxposer[ray]'") from exc
-    ray.init(address=cfg.ray_address, ignore_reinit_error=True)
-    actor_cls: Any = ray.remote(num_cpus=1)(_RayWorker)  # actor handles are untyped
-    actors = [actor_cls.remote(cfg.llm, cfg.llm_overrides)
-              for _ in range(min(cfg.workers, len(jobs)))]
-    queue = list(jobs)
-    pending: dict[Any, tuple[Any, EpisodeJob]] = {}
-    for actor in actors:
-        if queue:
-            job = queue.pop(0)
-            pending[actor.run.remote(job)] = (actor, job)
-    try:
-        while pending:
-            (ref,), _ = ray.wait(list(pending), num_returns=1)
-            actor, job = pending.pop(ref)
-            try:
-                yield ray.get(ref)
-            except Exception as exc:
-                yield _error_record(job, exc)
-                actor = actor_cls.remote(cfg.llm, cfg.llm_overrides)
-            if queue:
-                nxt = queue.pop(0)
-                pending[actor.run.remote(nxt)] = (actor, nxt)
-    finally:
-        for ref in pending:
-            ray.cancel(ref, force=True)
+def _with_fresh_cache(cfg: BenchConfig, results: Path, resume: bool) -> BenchConfig:
+    """``cfg`` answering from ``<out>/cache/``; refuses a cache with entries unless resuming."""
+    directory = fresh_cache_dir(results)
+    entries = _cache_entries(directory)
+    if entries and not resume:
+        raise ConfigError(f"--fresh-cache: {directory} already holds {entries} cached responses; "
+                          "pass --resume to continue that run, or choose another --out")
+    overrides = {**cfg.llm_overrides, "cache_dir": directory}
+    return dataclasses.replace(cfg, llm_overrides=overrides)
 
 
 def run_bench(cfg: BenchConfig, results: Path, *, resume: bool = False,
+              allow_mixed_versions: bool = False,
               on_record: Callable[[dict[str, Any]], None] | None = None,
               on_start: Callable[[int, int], None] | None = None) -> list[dict[str, Any]]:
     """Run ``cfg``'s episodes, appending each record to ``results`` as it finishes.
 
     Args:
         results: the JSONL file. Without ``resume`` it must not already hold records.
-        resume: skip episodes ``results`` already has (crashed ones included).
+        resume: skip episodes ``results`` already has (crashed ones included); refused when
+            its records come from another code version (see :mod:`voxposer.bench.results`).
+        allow_mixed_versions: resume even a file of another code version.
         on_record: called with each new record (progress displays).
         on_start: called with (episodes to run, episodes already done).
 
     Returns:
         All records of ``results`` (old and new). KeyboardInterrupt propagates after the
         finished episodes are written.
+
+    Raises:
+        ConfigError: records without ``resume``; another code version without
+            ``allow_mixed_versions``; a ``fresh_cache`` folder with entries without ``resume``.
     """
     old = load_records(results)
     if old and not resume:
         raise ConfigError(f"{results} already holds {len(old)} episodes; pass --resume to "
                           "continue it or choose another --out")
+    check_resumable(results, old, code_version().code_hash, allow_mixed_versions)
+    if cfg.fresh_cache:
+        cfg = _with_fresh_cache(cfg, results, resume)
+    if cfg.out_dir is None:
+        cfg = dataclasses.replace(cfg, out_dir=results.parent.resolve())
+    if cfg.seed_set == ADHOC and any(TEST_SEEDS.holds(s) for s in cfg.seed_list()):
+        log.warning("ad-hoc seeds %s overlap the test seed set (%d-%d); use --seeds test",
+                    cfg.seed_list(), TEST_SEEDS.first, TEST_SEEDS.last)
     done = {record_key(r) for r in old}
     jobs = [j for j in cfg.jobs() if j.key not in done]
     if on_start is not None:
         on_start(len(jobs), len(cfg.jobs()) - len(jobs))
     results.parent.mkdir(parents=True, exist_ok=True)
-    stream = _ray(cfg, jobs) if cfg.executor == "ray" else _local(cfg, jobs)
+    stream = run_ray(cfg, jobs) if cfg.executor == "ray" else run_local(cfg, jobs)
     new: list[dict[str, Any]] = []
     with results.open("a", encoding="utf-8") as fh:
         for record in stream if jobs else iter(()):
@@ -255,3 +241,7 @@ def run_bench(cfg: BenchConfig, results: Path, *, resume: bool = False,
             if on_record is not None:
                 on_record(record)
     return old + new
+
+
+__all__ = ["FRESH_CACHE_DIR", "LLM_CHOICES", "BenchConfig", "fresh_cache_dir", "load_records",
+           "record_key", "run_bench"]

@@ -141,6 +141,16 @@ class BenchTask(ABC):
         """What a correct LLM writes for the LLM + Primitives baseline (None: not provided)."""
         return None
 
+    #: the constraint clause the instruction carries ("avoidance map", "velocity map", …);
+    #: None for tasks without one. Constrained tasks declare :meth:`blind`.
+    constraint: ClassVar[str | None] = None
+
+    def blind(self, attrs: dict[str, str]) -> Programs | None:
+        """The constraint-blind control: :meth:`reference` with the constraint's map removed and
+        nothing else changed (None for tasks without a constraint). A layout tests its
+        constraint only if this control fails."""
+        return None
+
 
 def episode_rng(task: str, split: str, seed: int) -> np.random.Generator:
     """The episode's only source of randomness, from (task, split, seed)."""
@@ -161,8 +171,8 @@ def reset_episode(task: BenchTask, world: Any, split: str, seed: int,
     attrs = task.sample_attributes(rng, split)
     problem = "no layout tried"
     for _ in range(_RESET_ATTEMPTS):
-        layout = task.layout(rng, attrs)
         try:
+            layout = task.layout(rng, attrs)
             world.reset(rng, layout)
         except LayoutError as err:
             problem = str(err)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -23,13 +24,17 @@ def colour(name: str) -> str:
 def block_layout(poses: Mapping[str, tuple[float, ...]], *, cabinet: bool = False,
                  extra_blocks: tuple[int, int] = DISTRACTOR_BLOCKS,
                  extra_lines: tuple[int, int] = DISTRACTOR_LINES,
-                 drawer_openings: Mapping[str, float] | None = None) -> SceneLayout:
-    """A layout with the hand-placed ``poses`` ("blue block" → (x, y)) plus distractors."""
+                 drawer_openings: Mapping[str, float] | None = None,
+                 ee_start: tuple[float, float, float] | None = None,
+                 ee_start_yaw: float = 0.0) -> SceneLayout:
+    """A layout with the hand-placed ``poses`` ("blue block" → (x, y)) plus distractors (and
+    the end effector's start position [m], None: the rest pose, and yaw [rad])."""
     return SceneLayout(
         blocks=tuple(colour(n) for n in poses if n.endswith("block")),
         lines=tuple(colour(n) for n in poses if n.endswith("line")),
         extra_blocks=extra_blocks, extra_lines=extra_lines, cabinet=cabinet,
-        drawer_openings=dict(drawer_openings or {}), poses=dict(poses))
+        drawer_openings=dict(drawer_openings or {}), poses=dict(poses), ee_start=ee_start,
+        ee_start_yaw=ee_start_yaw)
 
 
 def segment_clear(a: tuple[float, float], b: tuple[float, float], radius: float,
@@ -87,11 +92,60 @@ def clear_at(point: tuple[float, float]) -> list[tuple[tuple[float, float], floa
     return [(point, TARGET_CLEAR_M)]
 
 
-def move_to_place_programs(instruction: str, subtask: str, place: Place, kind: str,
-                           query: str) -> Programs:
+def move_to_place_programs(instruction: str, subtask: str, place: Place, kind: str | None,
+                           query: str = "") -> Programs:
     """Reference programs for one sub-task moving the gripper 5 cm above ``place`` with one more
-    map (``kind`` "avoidance"/"velocity", answering ``query``); the caller adds that map's code."""
+    map (``kind`` "avoidance"/"velocity", answering ``query``; the caller adds that map's code).
+    ``kind=None`` leaves the extra map out: the constraint-blind control."""
     aff = place_query(place.name, 5)
     progs = one_subtask(Programs(), instruction, subtask, reset=False)
-    gripper_composer(progs, subtask, {"affordance": aff, kind: query})
+    maps = {"affordance": aff} if kind is None else {"affordance": aff, kind: query}
+    gripper_composer(progs, subtask, maps)
     return progs.add("get_affordance_map", aff, *affordance_at_place(place, 5))
+
+
+#: Height of a low start [m]: tasks whose constraint lives on the path start the end effector
+#: this high, so that the path to a table place (5 cm up) runs at the blocks' height.
+LOW_START_Z = 0.06
+#: Box the low start (x, y) is drawn in [m] (reachable top-down at that height).
+LOW_START_LO, LOW_START_HI = (-0.42, -0.34), (0.12, 0.34)
+
+
+def low_path(rng: np.random.Generator, target: tuple[float, float], length: tuple[float, float],
+             at: tuple[float, float], lateral: tuple[float, float],
+             directions: tuple[tuple[float, float], ...] | None = None
+             ) -> tuple[tuple[float, float], tuple[float, float]] | None:
+    """A low start and a block on the way to ``target`` (x, y) [m].
+
+    The start lies ``length`` (lo, hi) [m] from the target, in a random horizontal direction
+    (or one of ``directions``, unit vectors pointing from the target to the start); the block
+    stands ``at`` (lo, hi) [m] from the target along that line, shifted ``lateral`` (lo, hi) [m]
+    to the left of the motion (negative: right). Returns (start, block), or None when no start
+    inside the reachable box was found.
+    """
+    t = np.asarray(target, dtype=float)
+    for _ in range(100):
+        if directions:
+            u = np.asarray(directions[int(rng.integers(len(directions)))], dtype=float)
+        else:
+            angle = float(rng.uniform(0.0, 2.0 * np.pi))
+            u = np.array([np.cos(angle), np.sin(angle)])
+        start = t + float(rng.uniform(*length)) * u
+        if not (np.all(start >= LOW_START_LO) and np.all(start <= LOW_START_HI)):
+            continue
+        block = toward(tuple(t), tuple(start), float(rng.uniform(*at)),
+                       -float(rng.uniform(min(lateral), max(lateral))))
+        return (float(start[0]), float(start[1])), block
+    return None
+
+
+def start_above(xy: tuple[float, float], z: float = LOW_START_Z) -> tuple[float, float, float]:
+    """The low start pose's position ``z`` [m] above ``xy`` [m]."""
+    return (float(xy[0]), float(xy[1]), float(z))
+
+
+def path_clear(world: Any, target: tuple[float, float]) -> list[tuple[tuple[float, float], float]]:
+    """``keep_clear`` for a task that moves the end effector from where it starts to ``target``:
+    no distractor within 9 cm of the target or 7 cm of the straight way there."""
+    ee = world.get_ee_pose()[0]
+    return clear_at(target) + segment_clear((float(ee[0]), float(ee[1])), target, 0.07)

@@ -34,12 +34,14 @@ def held_verdict(world: Any, obj: str, tol: Tolerances) -> tuple[bool, str, dict
                                                    "lifted": lifted}
 
 
-def grasp_programs(progs: Programs, obj: str, velocity: str | None = None) -> Programs:
-    """Composer + map programs grasping ``obj`` top-down (at a velocity word's speed)."""
+def grasp_programs(progs: Programs, obj: str, velocity: str | None = None, *,
+                   blind: bool = False) -> Programs:
+    """Composer + map programs grasping ``obj`` top-down (at a velocity word's speed; with
+    ``blind`` the sub-task still names the speed but no velocity map is built)."""
     subtask = f"grasp the {obj}" + (f" while moving at {velocity}" if velocity else "")
     maps = {"affordance": f"a point at the center of the {obj}", "rotation": "top-down",
             "gripper": f"open everywhere except 1cm around the {obj}"}
-    if velocity:
+    if velocity and not blind:
         maps["velocity"] = f"{velocity} everywhere"
         progs.add("get_velocity_map", maps["velocity"], "velocity_map = get_empty_velocity_map()",
                   f"velocity_map[:] = {VELOCITY_SCALE[velocity]}", "ret_val = velocity_map")
@@ -75,10 +77,15 @@ class GraspAtVelocity(BenchTask):
             trace, approach, attrs["velocity"], world.config.controller.ee_speed, tol)
         return Verdict(ok and speed_ok, f"{why}; approach: {speed_why}", {**metrics, **m2})
 
-    def reference(self, attrs: dict[str, str]) -> Programs:
+    constraint = "velocity map"
+
+    def blind(self, attrs: dict[str, str]) -> Programs:
+        return self.reference(attrs, blind=True)
+
+    def reference(self, attrs: dict[str, str], *, blind: bool = False) -> Programs:
         obj, vel = attrs["obj"], attrs["velocity"]
         progs = Programs().add("planner", self.instruction(attrs),
                                f"composer('grasp the {obj} while moving at {vel}')",
                                "composer('back to default pose')")
         progs.add("composer", "back to default pose", "reset_to_default_pose()")
-        return grasp_programs(progs, obj, vel)
+        return grasp_programs(progs, obj, vel, blind=blind)

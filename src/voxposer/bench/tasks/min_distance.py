@@ -1,8 +1,15 @@
 """Task "move to the [pos] while staying at least [dist]cm from the [obj]" (Spatial Composition).
 
-Success: the end effector ends at the place, and the minimum over the whole motion of its
-distance to the block's centre is at least dist − ``min_dist_slack_m``. Reset: the block stands
-on the way, dist + 5–9 cm before the place's point.
+"At least [dist]cm from the block" is the distance from the end effector to the block's faces
+(:func:`~voxposer.bench.measures.block_distance`). Success: the end effector ends at the place,
+and the minimum of that distance over the whole motion is at least dist − ``min_dist_slack_m``.
+
+Reset (so that the constraint binds): the end effector starts low (6 cm above the table) on the
+far side of the block; the block stands beside the straight line from the start to the place's
+point, 0.3–0.6 × [dist] off it, so the line passes within [dist] of its faces; dist + 6–9 cm lie
+between its faces and the place's point and dist + 6–10 cm between them and the start. A program
+that ignores the distance (the constraint-blind control) takes the short way past the block; a
+correct avoidance map keeps the path out of the dist-cm shell.
 """
 
 from __future__ import annotations
@@ -12,22 +19,28 @@ from typing import Any
 import numpy as np
 
 from voxposer.bench.config import Tolerances
-from voxposer.bench.measures import ee_at_place
+from voxposer.bench.measures import BLOCK_HALF, block_distance, ee_at_place
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
-    EE_START_XY,
     block_layout,
-    clear_at,
+    low_path,
     move_to_place_programs,
-    toward,
+    path_clear,
+    start_above,
 )
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 from voxposer.envs.places import get_place
+from voxposer.errors import LayoutError
 
-#: Extra radius a correct avoidance map adds to the stated distance [cm].
-AVOID_MARGIN_CM = 2
+#: Extra radius a correct avoidance map adds to the stated distance: the block's half-extent
+#: (the map's sphere is centred on the block, the distance counts from its faces) plus 2 cm [cm].
+AVOID_MARGIN_CM = 5
+#: The block stands this fraction (lo, hi) of [dist] beside the straight line (either side):
+#: close enough that the line passes within [dist] of its faces, far enough that a correct
+#: avoidance map's detour stays short.
+LATERAL = (0.3, 0.6)
 
 
 class MinDistance(BenchTask):
@@ -35,25 +48,38 @@ class MinDistance(BenchTask):
     category = "Spatial Composition"
     template = "move to the [pos] while staying at least [dist]cm from the [obj]"
     paper_row = "move to the [pos] while staying at least [dist]cm from the [obj]"
+    constraint = "avoidance map"
 
     def layout(self, rng: np.random.Generator, attrs: dict[str, str]) -> SceneLayout:
         target = get_place(attrs["pos"]).point
-        r = float(attrs["dist"]) / 100 + float(rng.uniform(0.05, 0.09))
-        return block_layout({attrs["obj"]: toward(target, EE_START_XY, r,
-                                                  float(rng.uniform(-0.02, 0.02)))})
+        dist = float(attrs["dist"]) / 100
+        near = dist + BLOCK_HALF + float(rng.uniform(0.06, 0.09))
+        far = near + 2 * BLOCK_HALF + dist + float(rng.uniform(0.06, 0.10))
+        side = 1.0 if rng.uniform() < 0.5 else -1.0
+        lateral = (side * LATERAL[0] * dist, side * LATERAL[1] * dist)
+        found = low_path(rng, target, (far, far), (near, near),
+                         (min(lateral), max(lateral)))
+        if found is None:
+            raise LayoutError(f"no low start {far:.2f} m from the {attrs['pos']}")
+        start, block = found
+        return block_layout({attrs["obj"]: block}, ee_start=start_above(start))
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return clear_at(get_place(attrs["pos"]).point)
+        return path_clear(world, get_place(attrs["pos"]).point)
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         ok, why = ee_at_place(trace.ee[-1], get_place(attrs["pos"]), tol)
-        closest = float(np.min(np.linalg.norm(trace.ee - trace.objects[attrs["obj"]], axis=1)))
+        closest = float(np.min(block_distance(trace.ee, trace.objects[attrs["obj"]])))
         need = float(attrs["dist"]) / 100 - tol.min_dist_slack_m
         if closest < need:
             ok = False
-        return Verdict(ok, f"{why}; closest {closest * 100:.1f} cm from the {attrs['obj']} "
-                       f"(needs >= {need * 100:.1f})", {"closest": closest})
+        return Verdict(ok, f"{why}; closest {closest * 100:.1f} cm from the {attrs['obj']}'s "
+                       f"faces (needs >= {need * 100:.1f})", {"closest": closest})
+
+    def blind(self, attrs: dict[str, str]) -> Programs:
+        subtask = self.instruction(attrs)
+        return move_to_place_programs(subtask, subtask, get_place(attrs["pos"]), None)
 
     def reference(self, attrs: dict[str, str]) -> Programs:
         place, obj, dist = get_place(attrs["pos"]), attrs["obj"], int(attrs["dist"])

@@ -6,6 +6,12 @@
 straight approach moves can brush it). Success: the block ends at the place, its centre stays at least
 ``obstacle_clearance_m`` from the obstacle's centre the whole time, and the obstacle moves at most
 ``moved_max_m``.
+
+Does not bind yet (measured on dev seeds): a push that ignores the obstacle keeps 7.2–9.4 cm
+from it by the object planner's collision margin alone, while the reference push with a 15 cm
+avoidance map kept only 7.7–10.9 cm (the planner's avoidance cost is soft), so no clearance
+threshold separates the two; with the obstacle 7–10 cm off the push the reference is robust and
+the blind control passes as well.
 """
 
 from __future__ import annotations
@@ -59,8 +65,13 @@ class PushAvoidObstacle(BenchTask):
                        f"which moved {moved * 100:.1f} cm",
                        {"closest": closest, "obstacle_moved": moved})
 
-    def reference(self, attrs: dict[str, str]) -> Programs:
+    constraint = "avoidance map"
+
+    def reference(self, attrs: dict[str, str], *, blind: bool = False) -> Programs:
         obj, place, obstacle = attrs["obj"], get_place(attrs["pos"]), attrs["obstacle"]
         subtask = f"push the {obj} to the {place.name} while staying away from the {obstacle}"
         progs = one_subtask(Programs(), self.instruction(attrs), subtask, reset=True)
-        return push_programs(progs, obj, place, avoid=obstacle)
+        return push_programs(progs, obj, place, avoid=obstacle, blind=blind)
+
+    def blind(self, attrs: dict[str, str]) -> Programs:
+        return self.reference(attrs, blind=True)

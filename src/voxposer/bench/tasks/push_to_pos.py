@@ -34,11 +34,14 @@ def push_start(rng: np.random.Generator, place: Place, tol: Tolerances) -> tuple
     return sample_xy(rng, START_LO, START_HI, ok)
 
 
-def push_programs(progs: Programs, obj: str, place: Place, avoid: str | None = None
-                  ) -> Programs:
-    """Composer + map programs pushing ``obj`` to ``place`` (avoiding block ``avoid``)."""
+def push_programs(progs: Programs, obj: str, place: Place, avoid: str | None = None,
+                  *, blind: bool = False) -> Programs:
+    """Composer + map programs pushing ``obj`` to ``place`` (avoiding block ``avoid``; with
+    ``blind`` the sub-task still names ``avoid`` but no avoidance map is built)."""
     subtask = f"push the {obj} to the {place.name}" + (
         f" while staying away from the {avoid}" if avoid else "")
+    if blind:
+        avoid = None
     query = f"the {place.name} at the height of the {obj}"
     lines = [f"movable = parse_query_obj('{obj}')",
              f"affordance_map = get_affordance_map('{query}')"]

@@ -45,6 +45,12 @@ class VelocityInRegion(BenchTask):
             trace, zone, attrs["velocity"], world.config.controller.ee_speed, tol)
         return Verdict(ok and speed_ok, f"{why}; {speed_why}", metrics)
 
+    constraint = "velocity map"
+
+    def blind(self, attrs: dict[str, str]) -> Programs:
+        subtask = self.instruction(attrs)
+        return move_to_place_programs(subtask, subtask, get_place(attrs["pos"]), None)
+
     def reference(self, attrs: dict[str, str]) -> Programs:
         place, region, vel = get_place(attrs["pos"]), get_place(attrs["region"]), \
             attrs["velocity"]

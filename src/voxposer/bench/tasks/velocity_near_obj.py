@@ -1,12 +1,17 @@
 """Task "move to the [pos] while moving at [velocity] when within [dist]cm from the [obj]"
 (Spatial Composition; Table 4 writes "from the obj").
 
-"Within [dist]cm" is the end effector–block-centre distance (as the prompts' velocity maps do).
-Success: the end effector ends at the place, and inside the zone its median speed over the
-controller's default ``ee_speed`` lies in the velocity word's band (:func:`speed_clause`).
-Reset: the block stands 5–8 cm beside the place's point, across the way from the start, so
-the end effector's final approach passes it (with small [dist] it may never come that close:
-the speed clause then holds vacuously, and ``zone_samples`` = 0 says so).
+"Within [dist]cm" is the end effector's distance to the block's faces
+(:func:`~voxposer.bench.measures.block_distance`). Success: the end effector ends at the place,
+and inside the zone its median speed over the controller's default ``ee_speed`` lies in the
+velocity word's band (:func:`speed_clause`, which needs ``speed_min_samples`` in the zone).
+
+Reset (so that the constraint binds): the end effector starts low (6 cm above the table)
+24–32 cm from the place's point, and the block stands at the middle of the straight line
+between them (within 1.5 cm of it). Every path to the place passes the block within a few
+centimetres, so it crosses the zone for ≥ 5 cm (the block's width) at every [dist]; a program
+without the velocity map (the constraint-blind control) moves there at the default speed,
+outside every band.
 """
 
 from __future__ import annotations
@@ -16,22 +21,25 @@ from typing import Any
 import numpy as np
 
 from voxposer.bench.config import Tolerances
-from voxposer.bench.measures import VELOCITY_SCALE, ee_at_place, speed_clause
+from voxposer.bench.measures import VELOCITY_SCALE, block_distance, ee_at_place, speed_clause
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
-    EE_START_XY,
     block_layout,
-    clear_at,
+    low_path,
     move_to_place_programs,
-    toward,
+    path_clear,
+    start_above,
 )
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 from voxposer.envs.places import get_place
+from voxposer.errors import LayoutError
 
-#: Extra radius a correct velocity map gives the zone, so the speed has changed on entry [cm].
-ZONE_MARGIN_CM = 2
+#: Extra radius a correct velocity map gives the zone: the block's half-extent (the map's sphere
+#: is centred on the block, the distance counts from its faces) plus 5 cm, so the speed has
+#: changed on entry [cm].
+ZONE_MARGIN_CM = 8
 
 
 class VelocityNearObj(BenchTask):
@@ -42,22 +50,32 @@ class VelocityNearObj(BenchTask):
 
     def layout(self, rng: np.random.Generator, attrs: dict[str, str]) -> SceneLayout:
         target = get_place(attrs["pos"]).point
-        side = 1.0 if rng.uniform() < 0.5 else -1.0
-        xy = toward(target, EE_START_XY, float(rng.uniform(0.0, 0.03)),
-                    side * float(rng.uniform(0.05, 0.08)))
-        return block_layout({attrs["obj"]: xy})
+        length = float(rng.uniform(0.24, 0.32))
+        found = low_path(rng, target, (length, length), (length / 2, length / 2),
+                         (-0.015, 0.015))
+        if found is None:
+            raise LayoutError(f"no low start {length:.2f} m from the {attrs['pos']}")
+        start, block = found
+        return block_layout({attrs["obj"]: block}, ee_start=start_above(start))
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
                    ) -> list[tuple[tuple[float, float], float]]:
-        return clear_at(get_place(attrs["pos"]).point)
+        return path_clear(world, get_place(attrs["pos"]).point)
 
     def check(self, world: Any, trace: Trace, attrs: dict[str, str], tol: Tolerances) -> Verdict:
         ok, why = ee_at_place(trace.ee[-1], get_place(attrs["pos"]), tol)
         block = trace.objects[attrs["obj"]]
-        zone = np.linalg.norm(trace.ee - block, axis=1) <= float(attrs["dist"]) / 100
+        zone = block_distance(trace.ee, block) <= float(attrs["dist"]) / 100
         speed_ok, speed_why, metrics = speed_clause(
             trace, zone, attrs["velocity"], world.config.controller.ee_speed, tol)
         return Verdict(ok and speed_ok, f"{why}; {speed_why}", metrics)
+
+    constraint = "velocity map"
+
+    def blind(self, attrs: dict[str, str]) -> Programs:
+        subtask = self.instruction(attrs).replace(" from the ", " of the ")
+        return move_to_place_programs(self.instruction(attrs), subtask,
+                                      get_place(attrs["pos"]), None)
 
     def reference(self, attrs: dict[str, str]) -> Programs:
         place, obj, dist, vel = get_place(attrs["pos"]), attrs["obj"], attrs["dist"], \
