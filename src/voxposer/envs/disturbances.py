@@ -107,11 +107,7 @@ class DisturbanceMixin:
                 break
         else:
             raise LayoutError(f"no free spot found to displace the {obj.name}")
-        after = np.array([xy[0], xy[1], self.config.block_size / 2])
-        self.data.qpos[adr:adr + 3] = after
-        self.data.qvel[dof:dof + 6] = 0.0
-        mujoco.mj_forward(self.model, self.data)
-        self._obs = None
+        after = self._put_block(adr, dof, xy)
         return Disturbance("displace", obj.name, before, after, 0.0, float(self.data.time))
 
     def return_object(self, rng: np.random.Generator, name: str, to: ArrayLike, *,
@@ -145,12 +141,18 @@ class DisturbanceMixin:
                 break
         else:
             raise LayoutError(f"no free spot found to put the {obj.name} back")
+        after = self._put_block(adr, dof, xy)
+        return Disturbance("revert", obj.name, before, after, 0.0, float(self.data.time))
+
+    def _put_block(self, adr: int, dof: int, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Set a block (free joint at qpos ``adr``, dofs ``dof``) down at rest at ``xy`` [m];
+        returns its new position [m], shape (3,)."""
         after = np.array([xy[0], xy[1], self.config.block_size / 2])
         self.data.qpos[adr:adr + 3] = after
         self.data.qvel[dof:dof + 6] = 0.0
         mujoco.mj_forward(self.model, self.data)
         self._obs = None
-        return Disturbance("revert", obj.name, before, after, 0.0, float(self.data.time))
+        return after
 
     def pull_drawer(self, rng: np.random.Generator, drawer: str | None = None, *,
                     force: tuple[float, float] = (30.0, 50.0), duration: float = 0.1
