@@ -151,3 +151,28 @@ def test_the_baseline_loads_its_prompt_without_the_held_out_task(monkeypatch) ->
     rt._prompts, rt.config = {}, LMPConfig(held_out_task=task)
     folded = rt.prompt(PRIMITIVES_SPEC.name)
     assert task not in folded.tasks and len(folded.examples) < len(full.examples)
+
+
+def test_unseen_instructions_check_every_fold_before_running(monkeypatch) -> None:
+    """A fold that would leave some LMP without an example stops the run at configuration."""
+    import voxposer.lmp.prompt as prompt_module
+    from voxposer.bench.runner import BenchConfig
+
+    checked: list[str] = []
+
+    def fake_check(task: str, prompt_dir=None):
+        checked.append(task)
+        if task == "push_to_pos":
+            raise ConfigError("the fold holding out task 'push_to_pos' leaves the prompt of "
+                              "LMP(s) composer with no few-shot example")
+        return {}
+
+    monkeypatch.setattr(prompt_module, "check_fold", fake_check)
+    with pytest.raises(ConfigError, match="composer"):
+        BenchConfig(tasks=("move_to_region", "push_to_pos"), llm="default",
+                    instructions="unseen", seeds="dev", episodes=1)
+    assert checked == ["move_to_region", "push_to_pos"]
+    checked.clear()
+    BenchConfig(tasks=("move_to_region",), llm="default", instructions="unseen", seeds="dev",
+                episodes=1)
+    assert checked == ["move_to_region"]

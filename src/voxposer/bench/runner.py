@@ -118,6 +118,11 @@ class BenchConfig:
             raise ConfigError(f"instructions='unseen' holds few-shot examples out of the LLM's "
                               f"prompts; llm={self.llm!r} replays hand-written programs and "
                               "has no prompts. Use instructions='seen', or an LLM backend")
+        if self.instructions == "unseen":
+            from voxposer.lmp.prompt import check_fold
+
+            for task in self.tasks:  # a fold that would empty some prompt stops the run here
+                check_fold(task)
         if self.llm == REFERENCE_BLIND:
             if self.method != "voxposer":
                 raise ConfigError(f"llm={REFERENCE_BLIND!r} (constraint-blind controls) exists "
