@@ -13,7 +13,7 @@ import multiprocessing
 import signal
 from collections.abc import Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.episode import EpisodeJob, EpisodeRecord, run_episode
@@ -21,8 +21,19 @@ from voxposer.bench.methods import REFERENCE_LLMS
 from voxposer.errors import VoxPoserError
 from voxposer.lmp.backends.config import LLMConfig
 
-if TYPE_CHECKING:
-    from voxposer.bench.runner import BenchConfig
+
+class ExecutorSettings(Protocol):
+    """What the executors read of a run's configuration (a
+    :class:`~voxposer.bench.runner.BenchConfig`)."""
+
+    @property
+    def workers(self) -> int: ...
+    @property
+    def llm(self) -> str: ...
+    @property
+    def llm_overrides(self) -> dict[str, Any]: ...
+    @property
+    def ray_address(self) -> str | None: ...
 
 
 # ------------------------------------------------------------------------ worker side
@@ -70,7 +81,7 @@ def _run_in_process(job: EpisodeJob) -> dict[str, Any]:
 
 
 # ------------------------------------------------------------------------ executors
-def run_local(cfg: BenchConfig, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
+def run_local(cfg: ExecutorSettings, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
     if cfg.workers == 1:
         worker = _Worker(cfg.llm, cfg.llm_overrides)
         for job in jobs:
@@ -114,7 +125,7 @@ class _RayWorker:  # wrapped by ray.remote at run time
         return self.worker.run(job)
 
 
-def run_ray(cfg: BenchConfig, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
+def run_ray(cfg: ExecutorSettings, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
     try:
         import ray
     except ImportError as exc:

@@ -12,13 +12,35 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Final
+from typing import TYPE_CHECKING, Any, Final, Protocol
 
 from voxposer.errors import ConfigError
 
 if TYPE_CHECKING:
-    from voxposer.bench.episode import EpisodeJob
     from voxposer.control.recording import VideoRecorder
+
+
+class VideoJob(Protocol):
+    """What names and places an episode's video (an :class:`~voxposer.bench.episode.EpisodeJob`)."""
+
+    @property
+    def method(self) -> str: ...
+    @property
+    def llm(self) -> str: ...
+    @property
+    def instructions(self) -> str: ...
+    @property
+    def task(self) -> str: ...
+    @property
+    def split(self) -> str: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def disturbed(self) -> bool: ...
+    @property
+    def video(self) -> str: ...
+    @property
+    def out_dir(self) -> str | None: ...
 
 log = logging.getLogger(__name__)
 
@@ -40,14 +62,14 @@ def check_video_mode(mode: str) -> str:
     return mode
 
 
-def video_name(job: EpisodeJob) -> str:
+def video_name(job: VideoJob) -> str:
     """``<method>-<llm>-<instructions>-<task>-<split>-<seed>[-disturbed].mp4``: unique per
     record identity."""
     name = f"{job.method}-{job.llm}-{job.instructions}-{job.task}-{job.split}-{job.seed}"
     return name + ("-disturbed" if job.disturbed else "") + ".mp4"
 
 
-def start_video(job: EpisodeJob, world: Any) -> VideoRecorder | None:
+def start_video(job: VideoJob, world: Any) -> VideoRecorder | None:
     """Start recording ``job``'s episode in ``world`` (None with ``video="none"``).
 
     Raises:
@@ -63,7 +85,7 @@ def start_video(job: EpisodeJob, world: Any) -> VideoRecorder | None:
     return VideoRecorder(world, path, camera=CAMERA, fps=FPS, width=WIDTH, height=HEIGHT)
 
 
-def finish_video(job: EpisodeJob, recorder: VideoRecorder | None, success: bool) -> str | None:
+def finish_video(job: VideoJob, recorder: VideoRecorder | None, success: bool) -> str | None:
     """Close ``recorder``; keep the file unless ``video="failures"`` and the episode succeeded.
 
     Returns:
