@@ -29,7 +29,8 @@ from voxposer.envs.layout import SceneLayout
 from voxposer.lmp.backends.replay import ReplayBackend
 from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.scene import WorldScene
-from voxposer.planning.pushing import PushConfig, random_shooting
+from voxposer.planning.mpc import random_shooting
+from voxposer.planning.push_primitive import PushConfig
 from voxposer.valuemaps import compose_cost_map
 
 RECORDINGS = Path(__file__).resolve().parents[1] / "tests/control/recordings/tabletop.jsonl"

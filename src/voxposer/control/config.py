@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 from voxposer.errors import ConfigError
 from voxposer.planning.planner import PlannerConfig
-from voxposer.planning.pushing import PushConfig
+from voxposer.planning.push_primitive import PushConfig
 from voxposer.valuemaps.cost import CostMapConfig
 
 

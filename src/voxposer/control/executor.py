@@ -10,7 +10,7 @@ When the entity is the end effector the trajectory is followed through the world
 controller with the velocity scale, orientation and gripper command read from the maps. When it
 is an object or a part (a drawer, a handle), the planner plans the object's path and
 random-shooting MPC over a planar pushing model chooses each push
-(:mod:`voxposer.planning.pushing`), executed by a pushing primitive — unless the object is in
+(:mod:`voxposer.planning.mpc`), executed by a pushing primitive — unless the object is in
 the closed hand (its detected centre within ``ExecutorConfig.carry_radius_m`` of the end
 effector): then it moves with the hand (paper App. A.3), so the hand's path is planned for the
 object's centre and followed with the grasp offset subtracted.

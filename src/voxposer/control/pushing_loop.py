@@ -2,7 +2,7 @@
 
 Each step observes the scene, re-evaluates the entity and the maps, plans the object's path
 (its own points are not obstacles; the table is not one either, it slides on it), chooses a push
-by random-shooting MPC (:func:`voxposer.planning.pushing.random_shooting`) and executes the
+by random-shooting MPC (:func:`voxposer.planning.mpc.random_shooting`) and executes the
 pushing primitive. It stops when the object reaches the target, when a sliding part (a drawer)
 no longer moves although pushed toward the target (the end of its travel: a drawer closed
 "as far as it goes"), when pushes stop making progress, or at the time limit.
@@ -20,7 +20,8 @@ from scipy.spatial.transform import Rotation
 
 from voxposer.control.scene_occupancy import scene_occupancy
 from voxposer.errors import PlanningError, UnreachablePoseError
-from voxposer.planning.pushing import PushAction, push_waypoints, random_shooting
+from voxposer.planning.mpc import random_shooting
+from voxposer.planning.push_primitive import PushAction, push_waypoints
 from voxposer.valuemaps.maps import TOP_DOWN_QUAT, pointat2quat
 
 if TYPE_CHECKING:

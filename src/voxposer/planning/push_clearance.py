@@ -8,15 +8,11 @@ two-finger contact) or along it, whichever is clearer.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 from numpy.typing import NDArray
 
+from voxposer.planning.push_primitive import PushConfig
 from voxposer.valuemaps.cost import CostMap
-
-if TYPE_CHECKING:
-    from voxposer.planning.pushing import PushConfig
 
 
 def add_hand_sweep(

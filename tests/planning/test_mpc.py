@@ -4,13 +4,9 @@ from numpy.typing import NDArray
 
 from voxposer.envs.synthetic import box_surface_points
 from voxposer.errors import ConfigError, PlanningError
-from voxposer.planning.pushing import (
-    PushAction,
-    PushConfig,
-    push_waypoints,
-    random_shooting,
-    translate_points,
-)
+from voxposer.planning.dynamics import PushBatch, PushPrediction, translate_points
+from voxposer.planning.mpc import random_shooting
+from voxposer.planning.push_primitive import PushAction, PushConfig, push_waypoints
 from voxposer.valuemaps import ValueMapAPI, VoxelGrid, compose_cost_map
 
 BLOCK = box_surface_points(np.array([0.475, 0.475, 0.0]), np.array([0.525, 0.525, 0.05]))
@@ -122,3 +118,22 @@ def test_lazy_hand_sweep_penalty_picks_the_same_push_as_penalising_every_sample(
     full, full_along = add_hand_sweep(score, contacts, dirs, dist, side, cmap, cfg, first=n)
     assert np.argmin(lazy) == np.argmin(full) and lazy.min() == full.min()
     assert lazy_along[np.argmin(lazy)] == full_along[np.argmin(full)]
+
+
+class _Reversed:
+    """A test double of a dynamics model: the object moves against the push."""
+
+    def predict(self, centre, points, pushes: PushBatch) -> PushPrediction:
+        step = -pushes.directions * pushes.distances[:, None]
+        return PushPrediction(centre + step, points[None] + step[:, None, :])
+
+
+def test_the_mpc_chooses_through_the_dynamics_model_it_is_given() -> None:
+    """With a model in which objects move against the push, the best push points away from
+    the goal; with the paper's heuristic it points toward it."""
+    path = np.array([[0.5, 0.5, 0.025], [0.7, 0.5, 0.025]])
+    heuristic = random_shooting(BLOCK, path, np.random.default_rng(4))
+    reversed_ = random_shooting(BLOCK, path, np.random.default_rng(4), model=_Reversed())
+    assert heuristic.direction[0] > 0.95
+    assert reversed_.direction[0] < -0.95
+    assert reversed_.predicted_position[0] > 0.5  # predicted by the model: toward the goal
