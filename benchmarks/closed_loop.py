@@ -23,7 +23,7 @@ from rich.console import Console
 from rich.table import Table
 
 from voxposer.control import ExecutorConfig
-from voxposer.control.world_executor import WorldExecutor
+from voxposer.control.robot_handoff import RobotHandoff
 from voxposer.envs import TabletopWorld
 from voxposer.envs.layout import SceneLayout
 from voxposer.lmp.backends.replay import ReplayBackend
@@ -49,7 +49,7 @@ def main() -> None:
         layout = SceneLayout(blocks=("blue", "green"), poses={"blue block": (0.0, -0.1 + 0.05 * seed),
                                                               "green block": (-0.12, -0.2)})
         world.reset(np.random.default_rng(seed), layout)
-        executor = WorldExecutor(world, np.random.default_rng(seed), ExecutorConfig())
+        executor = RobotHandoff(world, np.random.default_rng(seed), ExecutorConfig())
         runtime = LMPRuntime(WorldScene(world), ReplayBackend(RECORDINGS), executor)
         with console.status(f"rollout {seed + 1}/{args.episodes}"):
             runtime.run(INSTRUCTION)

@@ -33,7 +33,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from lmp_cases import all_cases
 from voxposer.lmp.api import parse_side
 from voxposer.lmp.cli_backend import add_backend_args, backend_from_args
-from voxposer.lmp.executor import RecordingExecutor
+from voxposer.lmp.handoff import RecordingHandler
 from voxposer.lmp.registry import LMPConfig
 from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.scene import BoxScene, make_tabletop_scene
@@ -157,7 +157,7 @@ def check(scene: BoxScene, spec: dict[str, Any], value: Any) -> str | None:
 def run_case(runtime: LMPRuntime, case: dict[str, Any]) -> str | None:
     """Run one case; None when it passes, else the reason."""
     executor = runtime.executor
-    assert isinstance(executor, RecordingExecutor)
+    assert isinstance(executor, RecordingHandler)
     executor.requests.clear()
     executor.evaluated.clear()
     value = runtime.query(case["lmp"], case["query"])
@@ -201,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
                  if i < len(g)]
         cases = order[: args.limit]
     backend = backend_from_args(args)
-    runtime = LMPRuntime(make_tabletop_scene(), backend, RecordingExecutor(),
+    runtime = LMPRuntime(make_tabletop_scene(), backend, RecordingHandler(),
                          LMPConfig(max_attempts=args.max_attempts), Transcript())
     args.out.parent.mkdir(parents=True, exist_ok=True)
     results: list[dict[str, Any]] = []

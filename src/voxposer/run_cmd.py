@@ -197,7 +197,7 @@ def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> No
     from voxposer.control import ExecutorConfig
     from voxposer.control.disturbance_schedule import DisturbanceSchedule, Disturber
     from voxposer.control.recording import VideoRecorder
-    from voxposer.control.world_executor import WorldExecutor
+    from voxposer.control.robot_handoff import RobotHandoff
     from voxposer.envs import TabletopWorld
     from voxposer.lmp.runtime import LMPRuntime
     from voxposer.lmp.scene import WorldScene
@@ -210,7 +210,7 @@ def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> No
     world.reset(rng, layout)
     backend = _progress_backend(_backend(args), progress)
     summary["model"] = backend.model
-    executor = WorldExecutor(world, rng, ExecutorConfig(max_time_s=args.max_time), picture_dir=out)
+    executor = RobotHandoff(world, rng, ExecutorConfig(max_time_s=args.max_time), picture_dir=out)
     disturber = None
     if args.disturb:  # on sub-task progress (voxposer.control.disturbance_schedule)
         relevant = tuple(f"{c} block" for c in layout.blocks)

@@ -10,9 +10,9 @@ import pytest
 
 import voxposer
 from voxposer.bench import BenchConfig, EpisodeJob, EpisodeRecord, run_bench
-from voxposer.bench.executors import worker_llm_config
 from voxposer.bench.runner import _with_fresh_cache, fresh_cache_dir
 from voxposer.bench.version import code_version, git_state, package_hash, prompts_hash
+from voxposer.bench.workers import worker_llm_config
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import ChatMessage, LLMRequest, LLMResponse
 from voxposer.lmp.backends.cache import ResponseCache

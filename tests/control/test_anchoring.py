@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from voxposer.control import ClosedLoopExecutor
+from voxposer.control import ClosedLoopController
 from voxposer.control.anchoring import SelfRelativeAnchor
 from voxposer.envs import TabletopWorld
 from voxposer.valuemaps import ValueMapAPI, VoxelGrid
@@ -53,7 +53,7 @@ def test_the_hand_reaches_a_point_above_itself_instead_of_chasing_it(
         m[tuple(world.grid.world_to_voxel(world.get_ee_pose()[0] + [0, 0, 0.08]))] = 1
         return m
 
-    result = ClosedLoopExecutor(world, np.random.default_rng(6))(
+    result = ClosedLoopController(world, np.random.default_rng(6))(
         lambda: world.detect("gripper"), above_the_gripper
     )
     assert result.success, result.message
@@ -76,7 +76,7 @@ def test_a_drawer_pushed_by_a_handle_relative_target_closes_all_the_way(
         m[tuple(world.grid.world_to_voxel(handle - 0.12 * axis))] = 1
         return m
 
-    result = ClosedLoopExecutor(world, np.random.default_rng(7))(
+    result = ClosedLoopController(world, np.random.default_rng(7))(
         lambda: world.detect("top drawer handle"), twelve_cm_in
     )
     assert result.success, result.message

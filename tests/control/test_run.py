@@ -8,7 +8,7 @@ import numpy as np
 
 from voxposer.cli import main
 from voxposer.control import ExecutorConfig
-from voxposer.control.world_executor import WorldExecutor
+from voxposer.control.robot_handoff import RobotHandoff
 from voxposer.envs import TabletopWorld
 from voxposer.envs.layout import SceneLayout
 from voxposer.lmp.backends.replay import ReplayBackend
@@ -19,14 +19,14 @@ RECORDINGS = Path(__file__).parent / "recordings" / "tabletop.jsonl"
 MOVE_ABOVE_BLUE = "move to the top of the blue block while staying away from the green block"
 
 
-def _run(world: TabletopWorld, instruction: str, seed: int, on_replan=None) -> WorldExecutor:
+def _run(world: TabletopWorld, instruction: str, seed: int, on_replan=None) -> RobotHandoff:
     return _run_with_runtime(world, instruction, seed, on_replan)[0]
 
 
 def _run_with_runtime(
     world: TabletopWorld, instruction: str, seed: int, on_replan=None
-) -> tuple[WorldExecutor, LMPRuntime]:
-    executor = WorldExecutor(world, np.random.default_rng(seed), ExecutorConfig(max_time_s=30))
+) -> tuple[RobotHandoff, LMPRuntime]:
+    executor = RobotHandoff(world, np.random.default_rng(seed), ExecutorConfig(max_time_s=30))
     executor.on_replan = on_replan
     runtime = LMPRuntime(WorldScene(world), ReplayBackend(RECORDINGS), executor)
     runtime.run(instruction)

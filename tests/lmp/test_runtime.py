@@ -13,7 +13,7 @@ from voxposer.lmp import (
     LMPConfig,
     LMPRuntime,
     ObjectView,
-    RecordingExecutor,
+    RecordingHandler,
     Transcript,
     ValueMapProgram,
     make_tabletop_scene,
@@ -27,15 +27,15 @@ INSTRUCTION = "move to the left of the blue block while staying away from the gr
 def runtime(name: str, tmp_path: Path | None = None, **config: object) -> LMPRuntime:
     transcript = Transcript(tmp_path / "run.jsonl" if tmp_path else None)
     return LMPRuntime(make_tabletop_scene(), ReplayBackend(RECORDINGS / name),
-                      executor=RecordingExecutor(), config=LMPConfig(**config),
+                      handler=RecordingHandler(), config=LMPConfig(**config),
                       transcript=transcript)
 
 
 def test_composer_hands_re_evaluable_maps_to_the_executor() -> None:
     rt = runtime("closed_loop.jsonl")
     rt.run(INSTRUCTION)
-    executor = rt.executor
-    assert isinstance(executor, RecordingExecutor)
+    executor = rt.handler
+    assert isinstance(executor, RecordingHandler)
     assert len(executor.requests) == 1
     request = executor.requests[0]
     assert set(request.maps) == {"affordance_map", "avoidance_map", "velocity_map"}
@@ -56,7 +56,7 @@ def test_re_evaluation_follows_a_moved_object_without_llm_calls() -> None:
     rt = runtime("closed_loop.jsonl")
     rt.run(INSTRUCTION)
     calls = rt.llm_calls
-    afford = rt.executor.requests[0].maps["affordance_map"]
+    afford = rt.handler.requests[0].maps["affordance_map"]
     before = np.argwhere(afford() > 0)[0]
     rt.scene.move("blue block", (0.10, 0.05, 0.0))  # type: ignore[attr-defined]
     after = np.argwhere(afford() > 0)[0]

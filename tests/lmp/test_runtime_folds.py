@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from voxposer.errors import ConfigError
-from voxposer.lmp import LMPConfig, LMPRuntime, RecordingExecutor, make_tabletop_scene
+from voxposer.lmp import LMPConfig, LMPRuntime, RecordingHandler, make_tabletop_scene
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 from voxposer.lmp.backends.prefix_state import PrefixState, PrefixStateStore, prefix_key
 from voxposer.lmp.backends.replay import RecordingBackend, ReplayBackend
@@ -41,10 +41,10 @@ class Spy(LLMBackend):
 def run(held_out: str | None, record: Path | None = None) -> list[LLMRequest]:
     replay: LLMBackend = ReplayBackend(RECORDINGS / "closed_loop.jsonl")
     spy = Spy(RecordingBackend(replay, record) if record else replay)
-    rt = LMPRuntime(make_tabletop_scene(), spy, executor=RecordingExecutor(),
+    rt = LMPRuntime(make_tabletop_scene(), spy, handler=RecordingHandler(),
                     config=LMPConfig(held_out_task=held_out))
     rt.run(INSTRUCTION)
-    assert len(rt.executor.requests) == 1  # type: ignore[attr-defined]
+    assert len(rt.handler.requests) == 1  # type: ignore[attr-defined]
     return spy.requests
 
 

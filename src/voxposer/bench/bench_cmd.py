@@ -69,9 +69,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--base-url", default=None, help="OpenAI-compatible endpoint URL")
     p.add_argument("--recordings", type=Path, default=None, help="recordings (--llm replay)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: cores)")
-    p.add_argument("--executor", choices=("local", "ray"), default="local",
+    p.add_argument("--pool", choices=("local", "ray"), default="local",
                    help="local process pool, or a Ray cluster (pip install 'voxposer[ray]')")
-    p.add_argument("--ray-address", default=None, help="Ray cluster address (--executor ray)")
+    p.add_argument("--ray-address", default=None, help="Ray cluster address (--pool ray)")
     p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
     p.add_argument("--out", type=Path, default=None,
                    help="output folder (default runs/bench/<method>-<llm>)")
@@ -104,7 +104,7 @@ def _config(args: argparse.Namespace) -> BenchConfig:
     return BenchConfig(tasks=tasks, splits=tuple(s.strip() for s in args.splits.split(",")),
                        episodes=args.episodes, seeds=args.seeds, seed=args.seed,
                        method=args.method, llm=args.llm, instructions=args.instructions,
-                       executor=args.executor, ray_address=args.ray_address,
+                       pool=args.pool, ray_address=args.ray_address,
                        max_time_s=args.max_time, llm_overrides=overrides,
                        fresh_cache=args.fresh_cache, video=args.video, disturb=args.disturb,
                        **kwargs)

@@ -70,11 +70,11 @@ class Method:
         disturber = None if make_disturber is None else make_disturber(
             disturb_rng, exec_config.reach_tolerance_m)
         if self.name == "voxposer":
-            from voxposer.control.world_executor import WorldExecutor
+            from voxposer.control.robot_handoff import RobotHandoff
             from voxposer.lmp.runtime import LMPRuntime
             from voxposer.lmp.scene import WorldScene
 
-            executor = WorldExecutor(world, rng, exec_config, on_replan=None if disturber is None
+            executor = RobotHandoff(world, rng, exec_config, on_replan=None if disturber is None
                                      else disturber.on_replan)
             LMPRuntime(WorldScene(world), backend, executor, config).run(setup.instruction)
         else:

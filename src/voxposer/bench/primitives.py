@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 
 from voxposer.errors import InvalidActionError
 from voxposer.lmp.backends.base import LLMBackend
-from voxposer.lmp.executor import RecordingExecutor
+from voxposer.lmp.handoff import RecordingHandler
 from voxposer.lmp.registry import LMPConfig, LMPSpec
 from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.sandbox import suspend_time_limit
@@ -109,7 +109,7 @@ class PrimitivesRuntime(LMPRuntime):
 
     def __init__(self, world: Any, backend: LLMBackend, config: LMPConfig | None = None,
                  **kwargs: Any) -> None:
-        super().__init__(WorldScene(world), backend, RecordingExecutor(), config, **kwargs)
+        super().__init__(WorldScene(world), backend, RecordingHandler(), config, **kwargs)
         self.primitives = Primitives(world)
         if self.config.held_out_task is not None:  # the fold of its own prompt fails now
             self.prompt(PRIMITIVES_SPEC.name)

@@ -5,7 +5,7 @@ episodes in flight and ``resume=True`` runs only what the file does not have yet
 the same code version, :mod:`voxposer.bench.results`). Seeds come from a seed set
 (:mod:`voxposer.bench.protocol`) or an ad-hoc first seed. ``fresh_cache`` gives the run its own,
 initially empty response cache in ``<out>/cache/`` (the prefix-state store stays shared).
-Executors (:mod:`voxposer.bench.executors`): ``local`` (a process pool of ``workers``
+Worker pools (:mod:`voxposer.bench.workers`, ``pool``): ``local`` (a process pool of ``workers``
 processes; ``workers=1`` runs in this process) and ``ray`` (actors on a Ray cluster; needs the
 ``ray`` extra).
 """
@@ -23,13 +23,13 @@ from typing import Any, Literal
 
 from voxposer.bench.attributes import SPLITS, check_split
 from voxposer.bench.episode import EpisodeJob
-from voxposer.bench.executors import run_local, run_ray
 from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.protocol import ADHOC, DEV_SEEDS, TEST_SEEDS, check_instructions, get_seed_set
 from voxposer.bench.results import check_resumable, load_records, record_key
 from voxposer.bench.tasks import TASKS, get_task
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import check_video_mode
+from voxposer.bench.workers import run_local, run_ray
 from voxposer.errors import ConfigError
 
 log = logging.getLogger(__name__)
@@ -56,7 +56,8 @@ class BenchConfig:
             backend kind.
         instructions: "seen", or "unseen" (each task's few-shot examples held out; LLMs only).
         workers: parallel worker processes (default: the machine's cores).
-        executor: "local" (process pool) or "ray".
+        pool: where the worker processes run: "local" (a process pool) or "ray" (actors on a
+            Ray cluster).
         ray_address: Ray cluster address (None: ``ray.init()``'s default).
         max_time_s: simulated time limit of each ``execute`` call [s].
         llm_overrides: LLMConfig fields for the backend (model, base_url, recordings_path…).
@@ -79,7 +80,7 @@ class BenchConfig:
     llm: str = "reference"
     instructions: str = "seen"
     workers: int = field(default_factory=lambda: os.cpu_count() or 1)
-    executor: Literal["local", "ray"] = "local"
+    pool: Literal["local", "ray"] = "local"
     ray_address: str | None = None
     max_time_s: float = 40.0
     llm_overrides: dict[str, Any] = field(default_factory=dict)
@@ -100,8 +101,8 @@ class BenchConfig:
             raise ConfigError(f"BenchConfig.episodes must be an int >= 1; got {self.episodes!r}")
         if not isinstance(self.workers, int) or self.workers < 1:
             raise ConfigError(f"BenchConfig.workers must be an int >= 1; got {self.workers!r}")
-        if self.executor not in ("local", "ray"):
-            raise ConfigError(f"unknown executor {self.executor!r}; executors are: local, ray")
+        if self.pool not in ("local", "ray"):
+            raise ConfigError(f"unknown pool {self.pool!r}; pools are: local, ray")
         if not self.max_time_s > 0:
             raise ConfigError(f"BenchConfig.max_time_s must be > 0; got {self.max_time_s!r}")
         check_video_mode(self.video)
@@ -236,7 +237,7 @@ def run_bench(cfg: BenchConfig, results: Path, *, resume: bool = False,
     if on_start is not None:
         on_start(len(jobs), len(cfg.jobs()) - len(jobs))
     results.parent.mkdir(parents=True, exist_ok=True)
-    stream = run_ray(cfg, jobs) if cfg.executor == "ray" else run_local(cfg, jobs)
+    stream = run_ray(cfg, jobs) if cfg.pool == "ray" else run_local(cfg, jobs)
     new: list[dict[str, Any]] = []
     with results.open("a", encoding="utf-8") as fh:
         for record in stream if jobs else iter(()):

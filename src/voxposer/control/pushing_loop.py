@@ -25,7 +25,7 @@ from voxposer.planning.push_primitive import PushAction, push_waypoints
 from voxposer.valuemaps.maps import TOP_DOWN_QUAT, pointat2quat
 
 if TYPE_CHECKING:
-    from voxposer.control.executor import ClosedLoopExecutor, ExecutionResult, MapSource
+    from voxposer.control.closed_loop import ClosedLoopController, ExecutionResult, MapSource
 
 log = logging.getLogger(__name__)
 
@@ -40,7 +40,7 @@ def _evaluate(source: Any) -> Any:
 
 
 def run_object(
-    loop: ClosedLoopExecutor, movable: Any, name: str, maps: dict[str, MapSource]
+    loop: ClosedLoopController, movable: Any, name: str, maps: dict[str, MapSource]
 ) -> ExecutionResult:
     """Push ``movable`` (re-detected every step) to the affordance target."""
     cfg, world = loop.config, loop.world

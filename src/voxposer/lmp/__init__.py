@@ -5,14 +5,14 @@ Public API:
 * :class:`LMPRuntime` — runs the LMPs (planner, composer, parse_query_obj, get_*_map) of one
   scene and backend, with self-correction and a code cache; :class:`LMPConfig`, :data:`LMP_SPECS`.
 * :class:`ValueMapProgram` / :class:`ObjectProgram` — re-evaluable results handed to ``execute``.
-* :class:`Executor`, :class:`ExecutionRequest`, :class:`RecordingExecutor` — the ``execute`` hook.
+* :class:`ExecuteHandler`, :class:`ExecutionRequest`, :class:`RecordingHandler` — the ``execute`` hook.
 * :class:`Scene`, :class:`BoxScene`, :class:`WorldScene`, :func:`make_tabletop_scene`.
 * :class:`Sandbox`, :class:`SandboxConfig` — running untrusted generated code.
 * :class:`Transcript` — JSONL log of prompts, responses, code and errors.
 """
 
 from voxposer.lmp.api import LMPAPI
-from voxposer.lmp.executor import ExecutionRequest, Executor, RecordingExecutor
+from voxposer.lmp.handoff import ExecuteHandler, ExecutionRequest, RecordingHandler
 from voxposer.lmp.objects import ObjectView
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec
@@ -26,14 +26,14 @@ __all__ = [
     "LMP_SPECS",
     "MAP_LMPS",
     "BoxScene",
+    "ExecuteHandler",
     "ExecutionRequest",
-    "Executor",
     "LMPConfig",
     "LMPRuntime",
     "LMPSpec",
     "ObjectProgram",
     "ObjectView",
-    "RecordingExecutor",
+    "RecordingHandler",
     "Sandbox",
     "SandboxConfig",
     "Scene",

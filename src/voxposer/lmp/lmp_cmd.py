@@ -3,7 +3,7 @@
 Prints the generated code (and every self-correction attempt) and a summary of the result, and
 writes an HTML picture of the resulting value map over the scene (plotly). The scene is the fixed
 tabletop box scene (:func:`~voxposer.lmp.scene.make_tabletop_scene`); composer/planner queries
-run against a :class:`~voxposer.lmp.executor.RecordingExecutor` (no robot).
+run against a :class:`~voxposer.lmp.handoff.RecordingHandler` (no robot).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from rich.syntax import Syntax
 
 from voxposer.errors import VoxPoserError
 from voxposer.lmp.cli_backend import add_backend_args, backend_from_args
-from voxposer.lmp.executor import RecordingExecutor
+from voxposer.lmp.handoff import RecordingHandler
 from voxposer.lmp.objects import ObjectView
 from voxposer.lmp.registry import LMP_SPECS, LMPConfig, get_spec
 from voxposer.lmp.runtime import LMPRuntime
@@ -54,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
     scene = make_tabletop_scene()
     args.out.mkdir(parents=True, exist_ok=True)
     transcript = Transcript(args.out / "transcript.jsonl")
-    executor = RecordingExecutor()
+    executor = RecordingHandler()
     try:
         backend = backend_from_args(args)
         runtime = LMPRuntime(scene, backend, executor, LMPConfig(max_attempts=args.max_attempts),

@@ -27,7 +27,7 @@ from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
 from voxposer.lmp.checks import check_result
 from voxposer.lmp.codetext import extract_code
-from voxposer.lmp.executor import MAP_ARGUMENTS, ExecutionRequest, Executor, RecordingExecutor
+from voxposer.lmp.handoff import MAP_ARGUMENTS, ExecuteHandler, ExecutionRequest, RecordingHandler
 from voxposer.lmp.objects import ObjectView
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
@@ -56,7 +56,7 @@ class LMPRuntime:
     Args:
         scene: what the programs perceive (:class:`~voxposer.lmp.scene.Scene`).
         backend: the language model.
-        executor: receives ``execute`` calls (default: a :class:`RecordingExecutor`).
+        handler: receives ``execute`` calls (default: a :class:`RecordingHandler`).
         config: retries, decoding and sandbox limits.
         transcript: where to log prompts, responses, code and errors (default: in memory).
 
@@ -65,11 +65,11 @@ class LMPRuntime:
         code_cache: (lmp, query) → accepted code.
     """
 
-    def __init__(self, scene: Scene, backend: LLMBackend, executor: Executor | None = None,
+    def __init__(self, scene: Scene, backend: LLMBackend, handler: ExecuteHandler | None = None,
                  config: LMPConfig | None = None, transcript: Transcript | None = None) -> None:
         self.scene = scene
         self.backend = backend
-        self.executor: Executor = executor if executor is not None else RecordingExecutor()
+        self.handler: ExecuteHandler = handler if handler is not None else RecordingHandler()
         self.config = config or LMPConfig()
         self.transcript = transcript or Transcript()
         self.api = LMPAPI(scene)
@@ -225,7 +225,7 @@ class LMPRuntime:
         self._side_effects += 1
         with suspend_time_limit():
             try:
-                self.executor.reset_to_default_pose()
+                self.handler.reset_to_default_pose()
             except Exception as exc:
                 raise _NoRetry(exc) from exc
 
@@ -241,7 +241,7 @@ class LMPRuntime:
             self._side_effects += 1
             with suspend_time_limit():
                 try:
-                    self.executor.execute(request)
+                    self.handler.execute(request)
                 except Exception as exc:
                     raise _NoRetry(exc) from exc
         return execute
@@ -258,7 +258,7 @@ class LMPRuntime:
 
 
 class _NoRetry(Exception):
-    """Wraps an executor failure so it propagates without self-correction."""
+    """Wraps a failure of the execute handler so it propagates without self-correction."""
 
     def __init__(self, original: BaseException) -> None:
         super().__init__(str(original))

@@ -1,9 +1,9 @@
 """The bridge from language model programs to the robot: ``execute`` calls run in closed loop.
 
 Composer code calls ``execute(movable, affordance_map=…, …)``; the LMP runtime turns the
-arguments into re-evaluable callables (:class:`voxposer.lmp.executor.ExecutionRequest`) and hands
-them to an executor. :class:`WorldExecutor` runs each request with the
-:class:`~voxposer.control.executor.ClosedLoopExecutor` on a world, keeps every result, writes an
+arguments into re-evaluable callables (:class:`voxposer.lmp.handoff.ExecutionRequest`) and hands
+them to an executor. :class:`RobotHandoff` runs each request with the
+:class:`~voxposer.control.closed_loop.ClosedLoopController` on a world, keeps every result, writes an
 HTML picture of the composed maps and the planned path per sub-task, and raises
 :class:`~voxposer.errors.ExecutionFailedError` when a sub-task does not reach its target (never
 a silent failure).
@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from voxposer.control.closed_loop import ClosedLoopController, ExecutionResult
 from voxposer.control.config import ExecutorConfig
-from voxposer.control.executor import ClosedLoopExecutor, ExecutionResult
 from voxposer.errors import ExecutionFailedError
 
 log = logging.getLogger(__name__)
@@ -36,8 +36,8 @@ class SubtaskRecord:
 
 
 @dataclass
-class WorldExecutor:
-    """Implements the LMP runtime's ``Executor`` protocol on a simulated world.
+class RobotHandoff:
+    """Implements the LMP runtime's ``ExecuteHandler`` protocol on a simulated world.
 
     Attributes:
         world: the world (:class:`voxposer.envs.TabletopWorld`).
@@ -57,7 +57,7 @@ class WorldExecutor:
     records: list[SubtaskRecord] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self._loop = ClosedLoopExecutor(self.world, self.rng, self.config)
+        self._loop = ClosedLoopController(self.world, self.rng, self.config)
 
     def execute(self, request: Any) -> ExecutionResult:
         """Run one ``execute`` request in closed loop; raise if it does not reach its target."""

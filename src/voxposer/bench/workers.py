@@ -23,7 +23,7 @@ from voxposer.lmp.backends.config import LLMConfig
 
 
 class ExecutorSettings(Protocol):
-    """What the executors read of a run's configuration (a
+    """What the worker pools read of a run's configuration (a
     :class:`~voxposer.bench.runner.BenchConfig`)."""
 
     @property
@@ -80,7 +80,7 @@ def _run_in_process(job: EpisodeJob) -> dict[str, Any]:
     return _WORKER.run(job)
 
 
-# ------------------------------------------------------------------------ executors
+# ------------------------------------------------------------------------ pools
 def run_local(cfg: ExecutorSettings, jobs: list[EpisodeJob]) -> Iterator[dict[str, Any]]:
     if cfg.workers == 1:
         worker = _Worker(cfg.llm, cfg.llm_overrides)
@@ -129,7 +129,7 @@ def run_ray(cfg: ExecutorSettings, jobs: list[EpisodeJob]) -> Iterator[dict[str,
     try:
         import ray
     except ImportError as exc:
-        raise VoxPoserError("--executor ray needs Ray, which is not installed; install the "
+        raise VoxPoserError("--pool ray needs Ray, which is not installed; install the "
                             "extra: pip install 'voxposer[ray]'") from exc
     ray.init(address=cfg.ray_address, ignore_reinit_error=True)
     actor_cls: Any = ray.remote(num_cpus=1)(_RayWorker)  # actor handles are untyped

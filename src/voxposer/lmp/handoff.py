@@ -3,8 +3,8 @@
 Composer code calls ``execute(movable, affordance_map=..., avoidance_map=..., ...)``; the LMP
 context turns every argument into a zero-argument callable that re-evaluates it against the
 current observation (the cached program is re-run, no new LLM call), and passes them to an
-:class:`Executor`. The closed-loop executor (planner + controller, replanning each step) is a
-separate component; :class:`RecordingExecutor` is the simple one for tests and the CLI.
+:class:`ExecuteHandler`. The closed-loop executor (planner + controller, replanning each step) is a
+separate component; :class:`RecordingHandler` is the simple one for tests and the CLI.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ class ExecutionRequest:
     maps: dict[str, MapFn] = field(default_factory=dict)
 
 
-class Executor(Protocol):
+class ExecuteHandler(Protocol):
     """Carries out sub-tasks. Implementations may re-evaluate the callables at every step."""
 
     def execute(self, request: ExecutionRequest) -> Any:
@@ -49,7 +49,7 @@ class Executor(Protocol):
 
 
 @dataclass
-class RecordingExecutor:
+class RecordingHandler:
     """Records requests and evaluates each map once (no robot). For tests and ``voxposer lmp``.
 
     Attributes:

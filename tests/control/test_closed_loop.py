@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from voxposer.control import ClosedLoopExecutor, ExecutorConfig
+from voxposer.control import ClosedLoopController, ExecutorConfig
 from voxposer.envs import TabletopWorld
 from voxposer.envs.layout import SceneLayout
 from voxposer.errors import PlanningError
@@ -42,7 +42,7 @@ def test_move_above_a_block_while_avoiding_another(world: TabletopWorld) -> None
         api.set_voxel_by_radius(m, grid.world_to_voxel(green.position), 10, 1)
         return m
 
-    result = ClosedLoopExecutor(world, np.random.default_rng(0))(
+    result = ClosedLoopController(world, np.random.default_rng(0))(
         lambda: world.detect("gripper"), affordance, avoidance
     )
     assert result.success, result.message
@@ -65,7 +65,7 @@ def test_push_a_block_to_a_target(world: TabletopWorld) -> None:
         return m
 
     start = world.object_position("blue block")
-    result = ClosedLoopExecutor(world, np.random.default_rng(1))(
+    result = ClosedLoopController(world, np.random.default_rng(1))(
         lambda: world.detect("blue block"), affordance
     )
     end = world.object_position("blue block")
@@ -84,7 +84,7 @@ def test_displaced_target_is_followed_in_closed_loop(world: TabletopWorld) -> No
         m[tuple(grid.world_to_voxel(blue.position + [0, 0, 0.06]))] = 1
         return m
 
-    executor = ClosedLoopExecutor(world, np.random.default_rng(2))
+    executor = ClosedLoopController(world, np.random.default_rng(2))
     moved = []
 
     def disturb(result, plan) -> None:
@@ -101,7 +101,7 @@ def test_displaced_target_is_followed_in_closed_loop(world: TabletopWorld) -> No
 
 def test_missing_affordance_and_unreachable_targets_end_with_a_reason(world: TabletopWorld) -> None:
     world.reset(np.random.default_rng(3), _layout(blue_block=(0.0, 0.0)))
-    executor = ClosedLoopExecutor(world, np.random.default_rng(3), ExecutorConfig(max_time_s=3.0))
+    executor = ClosedLoopController(world, np.random.default_rng(3), ExecutorConfig(max_time_s=3.0))
     with pytest.raises(PlanningError, match="needs an affordance_map"):
         executor(lambda: world.detect("gripper"))
     api = _api(world)
@@ -137,7 +137,7 @@ def test_close_a_drawer_by_pushing_its_handle(world: TabletopWorld) -> None:
         m[tuple(grid.world_to_voxel(closed))] = 1
         return m
 
-    result = ClosedLoopExecutor(world, np.random.default_rng(4))(
+    result = ClosedLoopController(world, np.random.default_rng(4))(
         lambda: world.detect("top drawer handle"), affordance
     )
     assert result.success, result.message
@@ -147,7 +147,7 @@ def test_close_a_drawer_by_pushing_its_handle(world: TabletopWorld) -> None:
 def test_a_grasped_block_is_carried_not_pushed_and_released_in_place(world: TabletopWorld) -> None:
     world.reset(np.random.default_rng(5), _layout(blue_block=(-0.1, 0.0)))
     api, grid = _api(world), world.grid
-    executor = ClosedLoopExecutor(world, np.random.default_rng(5))
+    executor = ClosedLoopController(world, np.random.default_rng(5))
 
     def at(point: np.ndarray) -> np.ndarray:
         m = api.get_empty_affordance_map()

@@ -132,7 +132,7 @@ def _raise_to(grid: Any, affordance: NDArray[Any], min_z: float) -> NDArray[Any]
     return out
 
 
-class ClosedLoopExecutor:
+class ClosedLoopController:
     """Runs ``execute`` against a world. One instance per world; reusable across calls."""
 
     def __init__(
@@ -372,4 +372,4 @@ class ClosedLoopExecutor:
         return result
 
 
-__all__ = ["ClosedLoopExecutor", "ExecutionResult", "StopReason", "VoxPoserError", "World"]
+__all__ = ["ClosedLoopController", "ExecutionResult", "StopReason", "VoxPoserError", "World"]
