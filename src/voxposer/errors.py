@@ -89,6 +89,25 @@ class UnreachablePoseError(VoxPoserError):
         )
 
 
+class MoveMissedError(VoxPoserError):
+    """A move ended away from its target (blocked, or stopped by the settle time).
+
+    Attributes:
+        position: the requested position [m], shape (3,).
+        position_error: final distance [m] to the target.
+        rotation_error: final angle [rad] to the target orientation.
+    """
+
+    def __init__(self, position: object, position_error: float, rotation_error: float) -> None:
+        self.position = position
+        self.position_error = float(position_error)
+        self.rotation_error = float(rotation_error)
+        super().__init__(
+            f"the move to {position} m ended {self.position_error * 100:.1f} cm and "
+            f"{self.rotation_error:.3f} rad from its target (blocked?)"
+        )
+
+
 class InvalidActionError(VoxPoserError, ValueError):
     """An action is NaN/inf, has the wrong shape, or lies outside its allowed range."""
 

@@ -119,8 +119,30 @@ def test_transcript_is_jsonl_written_incrementally(tmp_path: Path) -> None:
     lines = (tmp_path / "run.jsonl").read_text().splitlines()
     events = [json.loads(line) for line in lines]
     kinds = {e["event"] for e in events}
-    assert kinds == {"prompt", "llm_call", "exec"}
+    assert kinds == {"prompt", "llm_call", "exec", "execute"}
     llm = [e for e in events if e["event"] == "llm_call"]
     assert len(llm) == rt.llm_calls == 8
     assert all(e["response"] for e in llm)
     assert any(e["event"] == "exec" and "point_beside" in e["code"] for e in events)
+
+
+def test_each_execute_call_is_in_the_transcript_with_its_outcome() -> None:
+    """Succeeded or failed, what the robot did for an ``execute`` call is a transcript event."""
+
+    class Refusing(RecordingHandler):
+        def execute(self, request):
+            from voxposer.errors import ExecutionFailedError
+
+            raise ExecutionFailedError(request.subtask, "stalled", "the arm was blocked")
+
+    rt = runtime("closed_loop.jsonl")
+    rt.run(INSTRUCTION)
+    done = [e for e in rt.transcript.events if e["event"] == "execute"]
+    assert len(done) == 1 and done[0]["success"] is True
+    failing = LMPRuntime(make_tabletop_scene(), ReplayBackend(RECORDINGS / "closed_loop.jsonl"),
+                         handler=Refusing())
+    with pytest.raises(LMPFailedError):
+        failing.run(INSTRUCTION)
+    failed = [e for e in failing.transcript.events if e["event"] == "execute"]
+    assert len(failed) == 1 and failed[0]["success"] is False
+    assert "the arm was blocked" in failed[0]["message"]

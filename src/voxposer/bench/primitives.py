@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from voxposer.errors import InvalidActionError
+from voxposer.errors import InvalidActionError, MoveMissedError
 from voxposer.lmp.backends.base import LLMBackend
 from voxposer.lmp.handoff import RecordingHandler
 from voxposer.lmp.registry import LMPConfig, LMPSpec
@@ -57,7 +57,7 @@ class Primitives:
         p = np.asarray(pos, dtype=float).reshape(-1)
         if p.shape != (3,) or not np.all(np.isfinite(p)):
             raise InvalidActionError(f"move_to_pos needs a finite (x, y, z) in metres; got {pos!r}")
-        self._act(lambda: self.world.move_to_pose(p, None, speed_scale=self.speed))
+        self._move(p, None)
 
     def rotate_by_quat(self, quat: ArrayLike) -> None:
         """Rotate the end effector by ``quat`` (x, y, z, w) in the world frame, in place."""
@@ -66,7 +66,7 @@ class Primitives:
             raise InvalidActionError(f"rotate_by_quat needs a quaternion (x, y, z, w); got {quat!r}")
         pos, current = self.world.get_ee_pose()
         target = (Rotation.from_quat(q / np.linalg.norm(q)) * Rotation.from_quat(current)).as_quat()
-        self._act(lambda: self.world.move_to_pose(pos, target, speed_scale=self.speed))
+        self._move(pos, target)
 
     def set_vel(self, scale: float) -> None:
         """Speed scale of the following motions (1 = the controller's default speed)."""
@@ -84,10 +84,19 @@ class Primitives:
         """Close the fingers."""
         self._act(self.world.close_gripper)
 
-    def _act(self, fn: Any) -> None:
+    def _act(self, fn: Any) -> Any:
         self.calls += 1
         with suspend_time_limit():
-            fn()
+            return fn()
+
+    def _move(self, position: NDArray[np.float64], quat: Any) -> None:
+        """Move the end effector; a move that ends away from its target raises
+        :class:`MoveMissedError` (the program sees it, and so does the episode record)."""
+        result = self._act(lambda: self.world.move_to_pose(position, quat,
+                                                           speed_scale=self.speed))
+        if not result.reached:
+            raise MoveMissedError(np.round(position, 3).tolist(), result.position_error,
+                                  result.rotation_error)
 
     def namespace(self) -> dict[str, Any]:
         """Names the baseline's code sees."""

@@ -87,6 +87,8 @@ class ExecutionResult:
         first_plan: the first plan, from where the entity started (for pictures).
         last_plan: the last plan.
         timings_ms: per replan, wall time of observe, maps, plan [ms].
+        missed_moves: the robot's moves (of pushes) that ended away from their targets, and
+            ``worst_miss_m`` the largest such distance [m]; the message reports them.
     """
 
     success: bool
@@ -106,6 +108,8 @@ class ExecutionResult:
     first_plan: Plan | None = None
     last_plan: Plan | None = None
     timings_ms: list[dict[str, float]] = field(default_factory=list)
+    missed_moves: int = 0
+    worst_miss_m: float = 0.0
 
     @property
     def replan_hz(self) -> float:
@@ -364,6 +368,9 @@ class ClosedLoopController:
         """Close ``result`` with a stop reason and a sentence saying why."""
         result.success = reason in ("reached", "end_of_travel")
         result.reason = reason
+        if result.missed_moves:
+            message += (f"; {result.missed_moves} of the robot's moves ended away from their "
+                        f"targets (worst by {result.worst_miss_m * 100:.1f} cm)")
         result.message = message
         result.entity_path = np.asarray(result._path).reshape(-1, 3)
         result.wall_time = time.perf_counter() - result.started_wall

@@ -111,7 +111,10 @@ def run_object(
         previous = centre
         try:
             top = float(np.asarray(entity["points"])[:, 2].max())
-            push(world, action, sideways=axis is not None, object_top=top)
+            moves = push(world, action, sideways=axis is not None, object_top=top)
+            result.missed_moves += sum(not m.reached for m in moves)
+            result.worst_miss_m = max([result.worst_miss_m] + [float(m.position_error)
+                                                             for m in moves if not m.reached])
         except UnreachablePoseError as err:
             # the arm did not move: not a push that failed to make progress (max_pushes caps it)
             log.info("push unreachable (%s); sampling another", err)
@@ -153,7 +156,8 @@ def top_down_quat(hand_axis: NDArray[np.float64], azimuth: float = 0.0) -> NDArr
 TOP_CLEARANCE_M = 0.033
 
 
-def push(world: Any, action: PushAction, sideways: bool, object_top: float | None = None) -> None:
+def push(world: Any, action: PushAction, sideways: bool, object_top: float | None = None
+         ) -> list[Any]:
     """The pushing primitive: above → behind the contact → through → back → up.
 
     Objects are pushed with the hand pointing down, its long (finger) axis along
@@ -161,6 +165,9 @@ def push(world: Any, action: PushAction, sideways: bool, object_top: float | Non
     (``object_top`` [m]; no higher than needed: right in front of the base the arm cannot hold
     its hand top-down much above 8 cm). Parts (drawers) are pushed with the hand pointing along
     the push, so the forearm stays clear of the cabinet. The gripper is closed first.
+
+    Returns:
+        the world's result of each of the five moves (``reached``, ``position_error`` [m]).
     """
     base = np.asarray(getattr(getattr(world, "config", None), "robot_base", (0.0, 0.0, 0.0)))
     reach = action.contact[:2] - base[:2]
@@ -169,5 +176,5 @@ def push(world: Any, action: PushAction, sideways: bool, object_top: float | Non
     world.close_gripper()
     lift = {} if sideways or object_top is None else {
         "lift_height_m": max(0.03, object_top + TOP_CLEARANCE_M - float(action.contact[2]))}
-    for k, point in enumerate(push_waypoints(action, **lift)):
-        world.move_to_pose(point, quat, speed_scale=0.5 if k == 2 else 1.0)
+    return [world.move_to_pose(point, quat, speed_scale=0.5 if k == 2 else 1.0)
+            for k, point in enumerate(push_waypoints(action, **lift))]

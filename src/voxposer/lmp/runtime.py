@@ -241,9 +241,14 @@ class LMPRuntime:
             self._side_effects += 1
             with suspend_time_limit():
                 try:
-                    self.handler.execute(request)
+                    outcome = self.handler.execute(request)
                 except Exception as exc:
+                    self.transcript.write("execute", subtask=subtask, success=False,
+                                          message=f"{type(exc).__name__}: {exc}")
                     raise _NoRetry(exc) from exc
+            self.transcript.write("execute", subtask=subtask,
+                                  success=bool(getattr(outcome, "success", True)),
+                                  message=str(getattr(outcome, "message", "")))
         return execute
 
     def _as_callable(self, value: Any, what: str) -> Any:

@@ -7,7 +7,9 @@ One line per event, written and flushed as it happens (a crashed run keeps what 
   "seconds", "cached"}``: ``messages`` are those after the prefix (the query and any retries);
 * ``{"event": "exec", "lmp", "query", "attempt", "code", "ok", "error", "seconds", "replay"}``:
   one execution of generated code (``replay`` is true when cached code was re-run on a fresh
-  observation, without an LLM call).
+  observation, without an LLM call);
+* ``{"event": "execute", "subtask", "success", "message"}``: what one ``execute`` call did on
+  the robot (reached, or why not — including moves that ended away from their targets).
 """
 
 from __future__ import annotations
