@@ -25,24 +25,20 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any, Literal, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.control.anchoring import SelfRelativeAnchor
 from voxposer.control.config import ExecutorConfig
+from voxposer.control.execution_result import ExecutionResult, MapSource, StopReason, evaluate
 from voxposer.control.pushing_loop import run_object
 from voxposer.control.scene_occupancy import is_end_effector, scene_occupancy
-from voxposer.errors import PlanningError, VoxPoserError
+from voxposer.errors import PlanningError
 from voxposer.planning.planner import PathPlanner, Plan
 
 log = logging.getLogger(__name__)
-
-StopReason = Literal["reached", "end_of_travel", "stalled", "timeout", "planning_failed"]
-MapSource = Callable[[], NDArray[Any]] | NDArray[Any] | None
-
 
 class World(Protocol):
     """What execution needs of a world (:class:`voxposer.envs.TabletopWorld` provides it)."""
@@ -65,63 +61,6 @@ class World(Protocol):
     def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
     def get_gripper_state(self) -> float: ...
     def gripper_opening(self) -> float: ...
-
-
-@dataclass
-class ExecutionResult:
-    """What one ``execute`` call did.
-
-    Attributes:
-        success: the entity reached the affordance target.
-        reason: why the loop stopped.
-        message: a sentence for people (and for the LLM when it retries).
-        entity: the entity's name.
-        replans: planning steps taken.
-        sim_time: simulated time spent [s].
-        wall_time: wall time spent [s].
-        final_distance: entity-to-target distance at the end [m].
-        entity_path: the entity's observed positions, one per replan [m], shape (R, 3).
-        trace: end-effector positions after every control period [m], shape (T, 3), and
-            ``trace_time``, shape (T,), their simulation times [s] (for speed and clearance
-            checks over the whole motion).
-        first_plan: the first plan, from where the entity started (for pictures).
-        last_plan: the last plan.
-        timings_ms: per replan, wall time of observe, maps, plan [ms].
-        missed_moves: the robot's moves (of pushes) that ended away from their targets, and
-            ``worst_miss_m`` the largest such distance [m]; the message reports them.
-    """
-
-    success: bool
-    reason: StopReason
-    message: str
-    entity: str
-    replans: int = 0
-    sim_time: float = 0.0
-    wall_time: float = 0.0
-    final_distance: float = float("inf")
-    entity_path: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 3)))
-    trace: list[NDArray[np.float64]] = field(default_factory=list)
-    trace_time: list[float] = field(default_factory=list)
-    started_wall: float = field(default_factory=time.perf_counter, repr=False)
-    started_sim: float = field(default=0.0, repr=False)
-    _path: list[NDArray[np.float64]] = field(default_factory=list, repr=False)
-    first_plan: Plan | None = None
-    last_plan: Plan | None = None
-    timings_ms: list[dict[str, float]] = field(default_factory=list)
-    missed_moves: int = 0
-    worst_miss_m: float = 0.0
-
-    @property
-    def replan_hz(self) -> float:
-        """Replanning steps per wall second, observation + maps + planning included (median)."""
-        if not self.timings_ms:
-            return 0.0
-        per = np.median([sum(t.values()) for t in self.timings_ms]) / 1000.0
-        return float(1.0 / per) if per > 0 else float("inf")
-
-
-def _evaluate(source: Any) -> Any:
-    return source() if callable(source) else source
 
 
 def _raise_to(grid: Any, affordance: NDArray[Any], min_z: float) -> NDArray[Any]:
@@ -170,14 +109,14 @@ class ClosedLoopController:
         """
         if affordance_map is None:
             raise PlanningError("execute() needs an affordance_map: nothing says where to go")
-        entity = _evaluate(movable)
+        entity = evaluate(movable)
         name = str(entity["name"])
         hand = is_end_effector(name)
 
         def position() -> NDArray[np.float64]:  # the entity's, for anchoring
             if hand:
                 return self.world.get_ee_pose()[0]
-            return np.asarray(_evaluate(movable)["position"], dtype=np.float64)
+            return np.asarray(evaluate(movable)["position"], dtype=np.float64)
 
         axis_of = getattr(self.world, "sliding_axis", None)
         slides = not hand and callable(axis_of) and axis_of(name) is not None
@@ -222,7 +161,7 @@ class ClosedLoopController:
         shift = np.zeros(3)
         rest_z = -np.inf
         if carried is not None:
-            held = _evaluate(carried)
+            held = evaluate(carried)
             rest_z = float(held["position"][2] - np.asarray(held["aabb"])[0][2])
         cfg, world = self.config, self.world
         control_dt = float(world.config.controller.control_dt)
@@ -233,10 +172,10 @@ class ClosedLoopController:
             t0 = time.perf_counter()
             obs = world.observe(rgb=False)
             t1 = time.perf_counter()
-            values = {k: _evaluate(v) for k, v in maps.items()}
+            values = {k: evaluate(v) for k, v in maps.items()}
             hand_pos, ee_quat = world.get_ee_pose()
             if carried is not None:
-                measured = self._carry_offset(_evaluate(carried))
+                measured = self._carry_offset(evaluate(carried))
                 if measured is None and world.get_gripper_state() < 0.5:
                     return self.finish(result, "reached", f"{name} released: the gripper map "
                                        "opened the hand")
@@ -379,4 +318,4 @@ class ClosedLoopController:
         return result
 
 
-__all__ = ["ClosedLoopController", "ExecutionResult", "StopReason", "VoxPoserError", "World"]
+__all__ = ["ClosedLoopController", "World"]

@@ -12,20 +12,18 @@ from __future__ import annotations
 
 import logging
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
+from voxposer.control.execution_result import ExecutionResult, MapSource, StopReason, evaluate
 from voxposer.control.scene_occupancy import scene_occupancy
 from voxposer.errors import PlanningError, UnreachablePoseError
 from voxposer.planning.mpc import random_shooting
 from voxposer.planning.push_primitive import PushAction, push_waypoints
 from voxposer.valuemaps.maps import TOP_DOWN_QUAT, pointat2quat
-
-if TYPE_CHECKING:
-    from voxposer.control.closed_loop import ClosedLoopController, ExecutionResult, MapSource
 
 log = logging.getLogger(__name__)
 
@@ -35,12 +33,24 @@ STALLED_PUSHES = 3
 END_OF_TRAVEL_PUSHES = 2
 
 
-def _evaluate(source: Any) -> Any:
-    return source() if callable(source) else source
+class LoopHost(Protocol):
+    """What the pushing loop uses of the closed-loop controller that runs it."""
+
+    config: Any
+    world: Any
+    object_planner: Any
+    rng: np.random.Generator
+
+    def start(self, name: str) -> ExecutionResult: ...
+    def finish(self, result: ExecutionResult, reason: StopReason, message: str
+               ) -> ExecutionResult: ...
+    def record(self, result: ExecutionResult, plan: Any, position: Any, distance: float,
+               clock: tuple[float, float, float]) -> None: ...
+    def timed_out(self, result: ExecutionResult) -> bool: ...
 
 
 def run_object(
-    loop: ClosedLoopController, movable: Any, name: str, maps: dict[str, MapSource]
+    loop: LoopHost, movable: Any, name: str, maps: dict[str, MapSource]
 ) -> ExecutionResult:
     """Push ``movable`` (re-detected every step) to the affordance target."""
     cfg, world = loop.config, loop.world
@@ -52,9 +62,9 @@ def run_object(
     for _ in range(cfg.max_pushes):
         t0 = time.perf_counter()
         obs = world.observe(rgb=False)
-        entity = _evaluate(movable)
+        entity = evaluate(movable)
         t1 = time.perf_counter()
-        values = {k: _evaluate(v) for k, v in maps.items()}
+        values = {k: evaluate(v) for k, v in maps.items()}
         t2 = time.perf_counter()
         centre = np.asarray(entity["position"], dtype=np.float64)
         try:

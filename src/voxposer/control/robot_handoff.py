@@ -19,8 +19,9 @@ from typing import Any
 
 import numpy as np
 
-from voxposer.control.closed_loop import ClosedLoopController, ExecutionResult
+from voxposer.control.closed_loop import ClosedLoopController
 from voxposer.control.config import ExecutorConfig
+from voxposer.control.execution_result import ExecutionResult
 from voxposer.errors import ExecutionFailedError
 
 log = logging.getLogger(__name__)
