@@ -8,10 +8,14 @@ target — without a new LLM call (paper footnote 3).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
-if TYPE_CHECKING:
-    from voxposer.lmp.runtime import LMPRuntime
+
+class Replayer(Protocol):
+    """What a program needs of the runtime that made it (an :class:`~voxposer.lmp.runtime.
+    LMPRuntime`): re-running cached code on the scene as it is now."""
+
+    def replay(self, lmp: str, query: str) -> Any: ...
 
 _OBJECT_FIELDS = frozenset({"name", "position", "aabb", "occupancy", "normal", "position_world",
                             "aabb_world"})
@@ -27,7 +31,7 @@ class ValueMapProgram:
         evaluations: how many times it has been re-run through this object.
     """
 
-    def __init__(self, runtime: LMPRuntime, lmp: str, query: str, code: str) -> None:
+    def __init__(self, runtime: Replayer, lmp: str, query: str, code: str) -> None:
         self._runtime = runtime
         self.lmp = lmp
         self.query = query
