@@ -10,8 +10,8 @@ from voxposer.bench import TASKS, Tolerances, get_task, reset_episode
 from voxposer.bench.attributes import ATTRIBUTES, DEIXIS_DRAWER
 from voxposer.bench.programs import Programs
 from voxposer.bench.trace import Trace
-from voxposer.envs.places import PLACES, get_place
 from voxposer.errors import ConfigError
+from voxposer.places import PLACES, get_place
 
 TOL = Tolerances()
 CASES = [(name, split) for name in TASKS for split in ("seen", "unseen")]

@@ -46,8 +46,9 @@ def test_names_are_lenient() -> None:
     assert normalize_name("grey_line") == "gray line"
 
 
-def test_robot_faces_front_from_the_back(world: TabletopWorld) -> None:
-    base = world.data.xpos[world.model.body("panda_base").id]
+def test_robot_faces_front_from_the_back(fresh: TabletopWorld) -> None:
+    # a reset world: body positions are computed (a never-reset world's are all zero)
+    base = fresh.data.xpos[fresh.model.body("panda_base").id]
     assert base[0] < -0.5 and abs(base[1]) < 1e-9
 
 

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from voxposer.envs.places import PLACES
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.scene import make_tabletop_scene
+from voxposer.places import PLACES
 
 
 @pytest.fixture(scope="module")

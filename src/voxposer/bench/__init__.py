@@ -19,7 +19,7 @@ from voxposer.bench.methods import METHODS, get_method
 from voxposer.bench.runner import BenchConfig, run_bench
 from voxposer.bench.task import BenchTask, Verdict, reset_episode
 from voxposer.bench.tasks import TASKS, get_task
-from voxposer.envs.places import PLACES, get_place
+from voxposer.places import PLACES, get_place
 
 __all__ = [
     "METHODS",

@@ -19,7 +19,7 @@ import re
 from typing import Any, Final
 
 from voxposer.envs.config import COLORS
-from voxposer.envs.places import PLACES
+from voxposer.places import PLACES
 
 #: words of a program error kept after its class.
 PROGRAM_ERROR_WORDS: Final = 6

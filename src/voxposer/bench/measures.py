@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 from voxposer.bench.config import Tolerances
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import MAX_REACH, MIN_REACH
-from voxposer.envs.places import Place
+from voxposer.places import Place
 
 #: Robot base (x, y) [m] (``WorldConfig.robot_base``).
 BASE_XY = (-0.60, 0.0)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from voxposer.envs.places import Place
+from voxposer.places import Place
 
 _PARSE = re.compile(r"parse_query_obj\('([^']+)'\)")
 

@@ -23,7 +23,7 @@ from voxposer.bench.report_failures import failure_lines
 from voxposer.bench.report_tables import control_lines, provenance_lines, table2_lines
 from voxposer.bench.results import check_single_version, record_key
 from voxposer.bench.tasks import TASKS
-from voxposer.envs.places import PLACES
+from voxposer.places import PLACES
 
 
 @dataclass

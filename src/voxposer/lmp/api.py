@@ -5,7 +5,7 @@ about its inputs: a voxel may be an int or float array, a list, or an object (it
 names match by synonym and substring. Direction words: front +x, back/behind −x, right +y,
 left −y, above/top/over/up +z, below/under/bottom/down −z (also "+x", "-y"…).
 
-On the table, corners and sides are the named places of :mod:`voxposer.envs.places` (the places
+On the table, corners and sides are the named places of :mod:`voxposer.places` (the places
 the robot can reach, which the benchmark checks against): ``point_on(table, "back left corner")``
 is that place's point, ``region_mask(table, "right side")`` its band; "half" or an axis token
 ("-y") splits the table at its centre instead. A point *beside* the table's front/back/left/right
@@ -22,10 +22,10 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from voxposer.envs.places import TABLE_MAX, TABLE_MIN, Place, place_for_signs
 from voxposer.errors import OutOfWorkspaceError, VoxPoserError
 from voxposer.lmp.objects import ObjectView, match_name
 from voxposer.lmp.scene import Scene
+from voxposer.places import TABLE_MAX, TABLE_MIN, Place, place_for_signs
 from voxposer.valuemaps.maps import ValueMapAPI
 
 #: Distance [cm] between an object's face and the point ``point_beside`` returns by default.

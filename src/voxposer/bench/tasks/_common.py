@@ -9,7 +9,7 @@ import numpy as np
 
 from voxposer.bench.programs import Programs, affordance_at_place
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import Place
+from voxposer.places import Place
 
 #: Distractor counts of block tasks (the paper randomises "a number of objects" per task).
 DISTRACTOR_BLOCKS = (2, 4)

@@ -19,7 +19,7 @@ from voxposer.bench.tasks.grasp_at_velocity import grasp_programs
 from voxposer.bench.tasks.push_to_pos import push_start
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import get_place
+from voxposer.places import get_place
 
 #: Height above the table the block is carried to before it is released [cm].
 CARRY_CM = 10

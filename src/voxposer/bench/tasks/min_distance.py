@@ -31,8 +31,8 @@ from voxposer.bench.tasks._common import (
 )
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import get_place
 from voxposer.errors import LayoutError
+from voxposer.places import get_place
 
 #: Extra radius a correct avoidance map adds to the stated distance: the block's half-extent
 #: (the map's sphere is centred on the block, the distance counts from its faces) plus 2 cm [cm].

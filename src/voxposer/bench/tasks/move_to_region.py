@@ -1,7 +1,7 @@
 """Task "move to the [region]" (Spatial Composition).
 
 Success: the end effector ends inside the region (a side of the table, see
-:mod:`voxposer.envs.places`) no higher than ``ee_max_height_m``.
+:mod:`voxposer.places`) no higher than ``ee_max_height_m``.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, clear_at, gripper_composer, one_subtask
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import get_place
+from voxposer.places import get_place
 
 #: Height above the table a correct program aims for when moving to a table place [cm].
 HOVER_CM = 5

@@ -28,7 +28,7 @@ from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clea
 from voxposer.bench.tasks.push_to_pos import push_programs, push_start
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import get_place
+from voxposer.places import get_place
 
 
 class PushAvoidObstacle(BenchTask):

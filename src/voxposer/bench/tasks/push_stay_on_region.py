@@ -23,7 +23,7 @@ from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clear
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import TABLE_MAX, TABLE_MIN, get_place
+from voxposer.places import TABLE_MAX, TABLE_MIN, get_place
 
 #: Per region: start box of the block [m] (inside it, 3–6 cm from its boundary), the
 #: direction a correct program pushes it (parallel to the boundary) and the fixed coordinate

@@ -18,7 +18,7 @@ from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clear
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import Place, get_place
+from voxposer.places import Place, get_place
 
 #: Start of a pushed block: inside this box [m], this far outside the place, this close to it.
 START_LO, START_HI = (-0.32, -0.28), (0.06, 0.28)

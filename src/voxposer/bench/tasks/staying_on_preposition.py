@@ -41,8 +41,8 @@ from voxposer.bench.tasks._common import (
 from voxposer.bench.tasks.move_to_preposition import SIDES
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import get_place
 from voxposer.errors import LayoutError
+from voxposer.places import get_place
 
 #: How far the passing window reaches beyond the block's faces [m].
 WINDOW_M = 0.01

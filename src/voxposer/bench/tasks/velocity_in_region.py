@@ -1,7 +1,7 @@
 """Task "move to the [pos] while moving at [velocity] in the [region]" (Spatial Composition).
 
 Success: the end effector ends at the place, and inside the region (a table side, see
-:mod:`voxposer.envs.places`) its median speed over ``ee_speed`` lies in the velocity word's
+:mod:`voxposer.places`) its median speed over ``ee_speed`` lies in the velocity word's
 band. Only combinations whose place lies inside the region are drawn (so the region is crossed).
 """
 
@@ -18,7 +18,7 @@ from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, clear_at, move_to_place_programs
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.envs.places import get_place
+from voxposer.places import get_place
 
 
 class VelocityInRegion(BenchTask):

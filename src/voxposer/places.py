@@ -1,5 +1,8 @@
 """The one place where table words ("back left corner", "right side") become geometry.
 
+A base module (like :mod:`voxposer.errors`): the simulator, the programs' API and the
+benchmark all import it, and it imports none of them.
+
 Both sides of the benchmark read these definitions: the programs' API (``point_on(table, ...)``,
 ``region_mask(table, ...)`` in :mod:`voxposer.lmp.api`) aims at them, and the benchmark's checks
 (:mod:`voxposer.bench`) measure against them, so a correct program lands inside what is checked.
