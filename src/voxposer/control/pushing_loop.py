@@ -92,19 +92,9 @@ def run_object(
             stuck = stuck + 1 if moved < cfg.min_progress_m else 0
             if axis is not None and moved < -cfg.min_progress_m:
                 stuck = 0  # a part pulled back (e.g. a drawer reopened) is not at its end
-            if axis is not None and stuck >= END_OF_TRAVEL_PUSHES:
-                return loop.finish(
-                    result,
-                    "end_of_travel",
-                    f"{name} moved as far as it goes "
-                    f"toward the target ({dist * 100:.1f} cm short of it)",
-                )
-            if stuck >= STALLED_PUSHES:
-                return loop.finish(
-                    result,
-                    "stalled",
-                    f"pushing {name} made no progress; {dist * 100:.1f} cm from the target",
-                )
+            stop = _stuck_stop(stuck, axis is not None, name, dist)
+            if stop is not None:
+                return loop.finish(result, *stop)
         action = random_shooting(
             entity["points"],
             plan.trajectory.positions,
@@ -121,10 +111,7 @@ def run_object(
         previous = centre
         try:
             top = float(np.asarray(entity["points"])[:, 2].max())
-            moves = push(world, action, sideways=axis is not None, object_top=top)
-            result.missed_moves += sum(not m.reached for m in moves)
-            result.worst_miss_m = max([result.worst_miss_m] + [float(m.position_error)
-                                                             for m in moves if not m.reached])
+            _count_misses(result, push(world, action, sideways=axis is not None, object_top=top))
         except UnreachablePoseError as err:
             # the arm did not move: not a push that failed to make progress (max_pushes caps it)
             log.info("push unreachable (%s); sampling another", err)
@@ -138,6 +125,26 @@ def run_object(
     return loop.finish(
         result, "stalled", f"{cfg.max_pushes} pushes did not bring {name} to the target"
     )
+
+
+def _stuck_stop(stuck: int, sliding: bool, name: str, dist: float
+                ) -> tuple[StopReason, str] | None:
+    """(reason, message) to stop with after ``stuck`` pushes without progress, or None: a sliding
+    part is at its end of travel after ``END_OF_TRAVEL_PUSHES``, anything after
+    ``STALLED_PUSHES``; ``dist`` is the remaining distance to the target [m]."""
+    if sliding and stuck >= END_OF_TRAVEL_PUSHES:
+        return ("end_of_travel", f"{name} moved as far as it goes toward the target "
+                f"({dist * 100:.1f} cm short of it)")
+    if stuck >= STALLED_PUSHES:
+        return ("stalled", f"pushing {name} made no progress; {dist * 100:.1f} cm from the target")
+    return None
+
+
+def _count_misses(result: ExecutionResult, moves: list[Any]) -> None:
+    """Add the push's moves that ended away from their targets to ``result``."""
+    missed = [float(m.position_error) for m in moves if not m.reached]
+    result.missed_moves += len(missed)
+    result.worst_miss_m = max([result.worst_miss_m, *missed])
 
 
 #: With the hand top-down, the Panda's wrist joint (joint 7, range ±2.9 rad) sits near the middle

@@ -41,6 +41,13 @@ def _volume_trace(plan: Plan) -> go.Volume:
     )
 
 
+def _points(pts: NDArray[np.float64], name: str, *, size: float, color: str,
+            symbol: str = "circle") -> go.Scatter3d:
+    """Markers at ``pts`` [m], shape (N, 3)."""
+    return go.Scatter3d(x=pts[:, 0], y=pts[:, 1], z=pts[:, 2], mode="markers",
+                        marker={"size": size, "color": color, "symbol": symbol}, name=name)
+
+
 def plan_figure(
     plan: Plan,
     scene_points: NDArray[np.float64] | None = None,
@@ -60,65 +67,22 @@ def plan_figure(
         pts = np.asarray(scene_points)
         if len(pts) > _MAX_POINTS:
             pts = pts[np.linspace(0, len(pts) - 1, _MAX_POINTS).astype(int)]
-        traces.append(
-            go.Scatter3d(
-                x=pts[:, 0],
-                y=pts[:, 1],
-                z=pts[:, 2],
-                mode="markers",
-                marker={"size": 1.5, "color": "rgba(90,90,90,0.5)"},
-                name="scene points",
-            )
-        )
+        traces.append(_points(pts, "scene points", size=1.5, color="rgba(90,90,90,0.5)"))
     pos = plan.trajectory.positions
-    traces.append(
-        go.Scatter3d(
-            x=pos[:, 0],
-            y=pos[:, 1],
-            z=pos[:, 2],
-            mode="lines+markers",
-            line={"width": 6, "color": "royalblue"},
-            marker={"size": 2},
-            name=f"{plan.method} path ({'reached' if plan.reached else 'stalled'})",
-        )
-    )
+    traces.append(go.Scatter3d(
+        x=pos[:, 0], y=pos[:, 1], z=pos[:, 2], mode="lines+markers",
+        line={"width": 6, "color": "royalblue"}, marker={"size": 2},
+        name=f"{plan.method} path ({'reached' if plan.reached else 'stalled'})"))
     for name, path in (other_paths or {}).items():
-        p = np.asarray(path)
-        traces.append(
-            go.Scatter3d(
-                x=p[:, 0],
-                y=p[:, 1],
-                z=p[:, 2],
-                mode="lines",
-                line={"width": 5, "color": "darkorange", "dash": "dash"},
-                name=name,
-            )
-        )
-    start, targets = (
-        plan.cost_map.start,
-        plan.cost_map.fine_grid.voxel_to_world(plan.cost_map.fine_targets),
-    )
-    traces.append(
-        go.Scatter3d(
-            x=[start[0]],
-            y=[start[1]],
-            z=[start[2]],
-            mode="markers",
-            marker={"size": 8, "color": "limegreen", "symbol": "diamond"},
-            name="start",
-        )
-    )
+        q = np.asarray(path)
+        traces.append(go.Scatter3d(
+            x=q[:, 0], y=q[:, 1], z=q[:, 2], mode="lines",
+            line={"width": 5, "color": "darkorange", "dash": "dash"}, name=name))
+    start = plan.cost_map.start
+    targets = plan.cost_map.fine_grid.voxel_to_world(plan.cost_map.fine_targets)
+    traces.append(_points(start[None, :], "start", size=8, color="limegreen", symbol="diamond"))
     targets = targets[np.linspace(0, len(targets) - 1, min(len(targets), 2000)).astype(int)]
-    traces.append(
-        go.Scatter3d(
-            x=targets[:, 0],
-            y=targets[:, 1],
-            z=targets[:, 2],
-            mode="markers",
-            marker={"size": 5, "color": "crimson"},
-            name="affordance target",
-        )
-    )
+    traces.append(_points(targets, "affordance target", size=5, color="crimson"))
     lo, hi = plan.cost_map.fine_grid.bounds_min, plan.cost_map.fine_grid.bounds_max
     fig = go.Figure(data=traces)
     fig.update_layout(

@@ -165,20 +165,7 @@ class PathPlanner:
             self.grid, affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg
         )
         t1 = time.perf_counter()
-        start_vox = cmap.grid.world_to_voxel(cmap.start, clip=True)
-        if cfg.method == "greedy":
-            path = greedy_descent(
-                cmap.cost,
-                np.zeros_like(cmap.obstacles),
-                start_vox,
-                radius=cfg.greedy_radius,
-                max_steps=cfg.greedy_max_steps,
-            )
-            reached = bool(cmap.target_mask[tuple(path[-1])])
-            path_cost = float(np.sum(cmap.cost[path[1:, 0], path[1:, 1], path[1:, 2]]))
-        else:
-            path, path_cost = self._search(cmap, start_vox)
-            reached = True
+        path, path_cost, reached = self._find_path(cmap)
         t2 = time.perf_counter()
         points = self._waypoints(cmap, path, reached)
 
@@ -218,6 +205,25 @@ class PathPlanner:
             "total": (t3 - t0) * 1e3,
         }
         return Plan(traj, cmap, path, reached, path_cost, cfg.method, timings)
+
+    def _find_path(self, cmap: CostMap) -> tuple[NDArray[np.int64], float, bool]:
+        """(voxel path, its cost, whether it reaches a target) by the configured method: the
+        release's greedy descent (which may stop short), or the global search (which reaches a
+        target or raises)."""
+        cfg = self.config
+        start_vox = cmap.grid.world_to_voxel(cmap.start, clip=True)
+        if cfg.method != "greedy":
+            path, path_cost = self._search(cmap, start_vox)
+            return path, path_cost, True
+        path = greedy_descent(
+            cmap.cost,
+            np.zeros_like(cmap.obstacles),
+            start_vox,
+            radius=cfg.greedy_radius,
+            max_steps=cfg.greedy_max_steps,
+        )
+        reached = bool(cmap.target_mask[tuple(path[-1])])
+        return path, float(np.sum(cmap.cost[path[1:, 0], path[1:, 1], path[1:, 2]])), reached
 
     def _search(
         self, cmap: CostMap, start_vox: NDArray[np.int64]

@@ -159,14 +159,7 @@ def compose_cost_map(
     if start_m.shape != (3,) or not np.all(np.isfinite(start_m)):
         raise OutOfWorkspaceError(f"start must be a finite 3-vector [m]; got {start!r}")
     grid.world_to_voxel(start_m)  # raises when outside the workspace
-    peak = float(aff.max())
-    if peak <= 0:
-        raise EmptyAffordanceError(
-            "affordance map has no positive voxel (max value "
-            f"{peak:g}); set the target voxels to a value > 0 so something attracts the entity"
-        )
-    flat_targets = np.flatnonzero(aff.reshape(-1) >= peak * cfg.target_threshold)
-    fine_targets = np.stack(np.unravel_index(flat_targets, grid.shape), axis=1).astype(np.int64)
+    fine_targets = _fine_targets(aff, grid, cfg.target_threshold)
 
     f = cfg.downsample
     coarse = grid.coarsen(f)
@@ -179,23 +172,7 @@ def compose_cost_map(
     affordance_cost = normalise(target_distance.copy())
 
     fine_obstacles = _scene_obstacles(grid, occupancy, entity_occupancy, start_m, fine_targets, cfg)
-
-    # Avoidance: pooled, Gaussian-smoothed, normalised.
-    avoid = (
-        None
-        if avoidance_map is None
-        else np.maximum(check_value_map("avoidance", avoidance_map, grid), 0)
-    )
-    if cfg.obstacles_as_avoidance and fine_obstacles.any():
-        solid = fine_obstacles.astype(np.float32)
-        avoid = solid if avoid is None else np.maximum(avoid, solid)
-    avoidance_cost = np.zeros(coarse.shape, dtype=np.float32)
-    if avoid is not None and float(avoid.max()) > 0:
-        pooled = pool_max(avoid.astype(np.float32, copy=False), f)
-        avoidance_cost = normalise(
-            smooth_zero_padded(pooled, cfg.avoidance_sigma / f, cfg.gaussian_truncate)
-        )
-
+    avoidance_cost = _avoidance_cost(grid, coarse.shape, avoidance_map, fine_obstacles, cfg)
     cost = cfg.affordance_weight * affordance_cost
     if cfg.avoidance_weight > 0:
         cost += cfg.avoidance_weight * avoidance_cost
@@ -222,6 +199,41 @@ def compose_cost_map(
         start=start_m,
         config=cfg,
     )
+
+
+def _fine_targets(aff: NDArray, grid: VoxelGrid, threshold: float) -> NDArray[np.int64]:
+    """Voxels (i, j, k) of the affordance map at or above ``threshold`` × its peak, shape (N, 3).
+
+    Raises:
+        EmptyAffordanceError: no voxel is positive.
+    """
+    peak = float(aff.max())
+    if peak <= 0:
+        raise EmptyAffordanceError(
+            "affordance map has no positive voxel (max value "
+            f"{peak:g}); set the target voxels to a value > 0 so something attracts the entity"
+        )
+    flat = np.flatnonzero(aff.reshape(-1) >= peak * threshold)
+    return np.stack(np.unravel_index(flat, grid.shape), axis=1).astype(np.int64)
+
+
+def _avoidance_cost(grid: VoxelGrid, coarse_shape: tuple[int, ...], avoidance_map: NDArray | None,
+                    fine_obstacles: NDArray[np.bool_], cfg: CostMapConfig) -> NDArray[np.float32]:
+    """The avoidance term on the planning grid: pooled, Gaussian-smoothed, normalised (zeros
+    when nothing is to be avoided); scene obstacles join it with ``obstacles_as_avoidance``."""
+    avoid = (
+        None
+        if avoidance_map is None
+        else np.maximum(check_value_map("avoidance", avoidance_map, grid), 0)
+    )
+    if cfg.obstacles_as_avoidance and fine_obstacles.any():
+        solid = fine_obstacles.astype(np.float32)
+        avoid = solid if avoid is None else np.maximum(avoid, solid)
+    if avoid is None or float(avoid.max()) <= 0:
+        return np.zeros(coarse_shape, dtype=np.float32)
+    pooled = pool_max(avoid.astype(np.float32, copy=False), cfg.downsample)
+    return normalise(smooth_zero_padded(pooled, cfg.avoidance_sigma / cfg.downsample,
+                                        cfg.gaussian_truncate))
 
 
 def _scene_obstacles(
