@@ -10,16 +10,22 @@ Public API:
   seed sets and instruction splits in :mod:`voxposer.bench.protocol`, code versions in
   :mod:`voxposer.bench.version`.
 * :data:`METHODS` — "voxposer" and "llm_primitives" (the LLM + Primitives baseline, App. A.4).
+* Gymnasium: importing this package registers every task as ``voxposer/<TaskClass>-v0``
+  (:mod:`voxposer.bench.gym_ids`, :mod:`voxposer.bench.gym_tasks`), e.g. ``gym.make("voxposer/PushToPos-v0")``.
 * CLI: ``voxposer bench`` (:mod:`voxposer.bench.bench_cmd`).
 """
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.episode import EpisodeJob, EpisodeRecord, run_episode
+from voxposer.bench.gym_ids import register_task_envs
 from voxposer.bench.methods import METHODS, get_method
 from voxposer.bench.runner import BenchConfig, run_bench
 from voxposer.bench.task import BenchTask, Verdict, reset_episode
 from voxposer.bench.tasks import TASKS, get_task
 from voxposer.places import PLACES, get_place
+
+# Gymnasium's convention: an environment package registers its ids when imported.
+register_task_envs()
 
 __all__ = [
     "METHODS",
@@ -29,6 +35,7 @@ __all__ = [
     "BenchTask",
     "EpisodeJob",
     "EpisodeRecord",
+    "TaskEnv",
     "Tolerances",
     "Verdict",
     "get_method",
