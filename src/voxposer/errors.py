@@ -70,42 +70,43 @@ class ObjectNotVisibleError(VoxPoserError):
     """An object is in the scene but no camera sees any of its points."""
 
 
-class UnreachablePoseError(VoxPoserError):
-    """No joint configuration reaches the requested end-effector pose.
+class _PoseError(VoxPoserError):
+    """A pose the robot did not get to: the target and how far off it stayed.
 
     Attributes:
         position: the requested position [m], shape (3,).
-        position_error: distance [m] from the closest reachable pose found to the target.
-        rotation_error: angle [rad] between the closest reachable orientation and the target.
+        position_error: distance [m] between the pose got to (or the closest reachable one)
+            and the target.
+        rotation_error: angle [rad] between that orientation and the target's.
     """
 
-    def __init__(self, position: object, position_error: float, rotation_error: float) -> None:
+    def __init__(self, position: object, position_error: float, rotation_error: float,
+                 message: str) -> None:
         self.position = position
         self.position_error = float(position_error)
         self.rotation_error = float(rotation_error)
-        super().__init__(
-            f"end-effector pose at {position} m is unreachable; the closest reachable pose is "
-            f"{self.position_error * 100:.1f} cm and {self.rotation_error:.3f} rad away"
-        )
+        super().__init__(message.format(position=position, cm=self.position_error * 100,
+                                        rad=self.rotation_error))
 
 
-class MoveMissedError(VoxPoserError):
-    """A move ended away from its target (blocked, or stopped by the settle time).
-
-    Attributes:
-        position: the requested position [m], shape (3,).
-        position_error: final distance [m] to the target.
-        rotation_error: final angle [rad] to the target orientation.
-    """
+class UnreachablePoseError(_PoseError):
+    """No joint configuration reaches the requested end-effector pose (the robot did not move);
+    the errors are those of the closest reachable pose found."""
 
     def __init__(self, position: object, position_error: float, rotation_error: float) -> None:
-        self.position = position
-        self.position_error = float(position_error)
-        self.rotation_error = float(rotation_error)
-        super().__init__(
-            f"the move to {position} m ended {self.position_error * 100:.1f} cm and "
-            f"{self.rotation_error:.3f} rad from its target (blocked?)"
-        )
+        super().__init__(position, position_error, rotation_error,
+                         "end-effector pose at {position} m is unreachable; the closest "
+                         "reachable pose is {cm:.1f} cm and {rad:.3f} rad away")
+
+
+class MoveMissedError(_PoseError):
+    """A move ended away from its target (blocked, or stopped by the settle time); the errors
+    are those of where it ended."""
+
+    def __init__(self, position: object, position_error: float, rotation_error: float) -> None:
+        super().__init__(position, position_error, rotation_error,
+                         "the move to {position} m ended {cm:.1f} cm and {rad:.3f} rad from its "
+                         "target (blocked?)")
 
 
 class InvalidActionError(VoxPoserError, ValueError):

@@ -154,6 +154,18 @@ class DisturbanceMixin:
         self._obs = None
         return after
 
+    def _drawer_joint(self, rng: np.random.Generator, drawer: str | None) -> tuple[Any, Any]:
+        """(registry object, MuJoCo joint) of ``drawer`` or a random drawer.
+
+        Raises:
+            LayoutError: the cabinet is not in the scene.
+        """
+        if "cabinet" not in self._present:
+            raise LayoutError("the cabinet is not in the scene; there is no progress to revert")
+        which = (drawer or str(rng.choice(DRAWERS))).lower().removesuffix(" drawer").strip()
+        obj = self.registry.resolve(f"{which} drawer", self._present)
+        return obj, self.model.joint(f"{obj.body}_joint")
+
     def pull_drawer(self, rng: np.random.Generator, drawer: str | None = None, *,
                     force: tuple[float, float] = (30.0, 50.0), duration: float = 0.1
                     ) -> Disturbance:
@@ -167,11 +179,7 @@ class DisturbanceMixin:
         Raises:
             LayoutError: the cabinet is not in the scene.
         """
-        if "cabinet" not in self._present:
-            raise LayoutError("the cabinet is not in the scene; there is no progress to revert")
-        which = (drawer or str(rng.choice(DRAWERS))).lower().removesuffix(" drawer").strip()
-        obj = self.registry.resolve(f"{which} drawer", self._present)
-        joint = self.model.joint(f"{obj.body}_joint")
+        obj, joint = self._drawer_joint(rng, drawer)
         body = int(self.model.jnt_bodyid[joint.id])
         axis = self.data.xmat[body].reshape(3, 3) @ \
             self.model.jnt_axis[joint.id]
@@ -189,11 +197,7 @@ class DisturbanceMixin:
         Raises:
             LayoutError: the cabinet is not in the scene.
         """
-        if "cabinet" not in self._present:
-            raise LayoutError("the cabinet is not in the scene; there is no progress to revert")
-        which = (drawer or str(rng.choice(DRAWERS))).lower().removesuffix(" drawer").strip()
-        obj = self.registry.resolve(f"{which} drawer", self._present)
-        joint = self.model.joint(f"{obj.body}_joint")
+        obj, joint = self._drawer_joint(rng, drawer)
         adr, dof = joint.qposadr[0], joint.dofadr[0]
         before = float(self.data.qpos[adr])
         after = float(np.clip(rng.uniform(*opening), 0.0, DRAWER_TRAVEL))
