@@ -3,10 +3,13 @@ accepts a constructed success state and rejects constructed near-misses (no LLM,
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+from typing import Any
+
 import numpy as np
 import pytest
 
-from voxposer.bench import TASKS, Tolerances, get_task, reset_episode
+from voxposer.bench import TASKS, Tolerances, Verdict, get_task, reset_episode
 from voxposer.bench.attributes import ATTRIBUTES, DEIXIS_DRAWER
 from voxposer.bench.programs import Programs
 from voxposer.bench.trace import Trace
@@ -77,20 +80,34 @@ def _set_block(world, name: str, xyz) -> None:
 
 
 # ------------------------------------------------------------- constructed success / near-miss
-def test_move_to_preposition(world) -> None:
+#: task → a generator of (label, expected success, the task's verdict) over constructed states.
+Case = tuple[str, bool, Verdict]
+CASES: dict[str, Callable[[Any], Iterator[Case]]] = {}
+
+
+def _cases(task: str) -> Callable[[Callable[[Any], Iterator[Case]]], Callable[[Any], Iterator[Case]]]:
+    def register(fn: Callable[[Any], Iterator[Case]]) -> Callable[[Any], Iterator[Case]]:
+        CASES[task] = fn
+        return fn
+    return register
+
+
+@_cases("move_to_preposition")
+def _move_to_preposition(world) -> Iterator[Case]:
     task, attrs = _setup(world, "move_to_preposition")
     attrs = {"preposition": "left of", "obj": attrs["obj"]}
     b = world.object_position(attrs["obj"])
     good = b + [0, -0.08, 0.01]
-    assert task.check(world, _trace([good]), attrs, TOL).success
-    assert not task.check(world, _trace([b + [0, 0.08, 0.01]]), attrs, TOL).success  # right
-    assert not task.check(world, _trace([b + [0, -0.2, 0.01]]), attrs, TOL).success  # too far
+    yield 'success', True, task.check(world, _trace([good]), attrs, TOL)
+    yield 'right', False, task.check(world, _trace([b + [0, 0.08, 0.01]]), attrs, TOL)
+    yield 'too far', False, task.check(world, _trace([b + [0, -0.2, 0.01]]), attrs, TOL)
     top = {"preposition": "top of", "obj": attrs["obj"]}
-    assert task.check(world, _trace([b + [0, 0, 0.08]]), top, TOL).success
-    assert not task.check(world, _trace([b + [0.05, 0, 0.08]]), top, TOL).success
+    yield 'success', True, task.check(world, _trace([b + [0, 0, 0.08]]), top, TOL)
+    yield 'near miss', False, task.check(world, _trace([b + [0.05, 0, 0.08]]), top, TOL)
 
 
-def test_staying_on_preposition(world) -> None:
+@_cases("move_to_pos_staying_on_preposition")
+def _staying_on_preposition(world) -> Iterator[Case]:
     """Passing the block on the named side succeeds; passing on the other side, over it, or
     never passing it fails."""
     task, _ = _setup(world, "move_to_pos_staying_on_preposition")
@@ -103,22 +120,23 @@ def test_staying_on_preposition(world) -> None:
     left = path.copy()
     left[20:40, 1] = -0.07  # beyond the left face (y = -0.035) while level with the block
     verdict = task.check(world, _trace(left, {obj: b}), attrs, TOL)
-    assert verdict.success, verdict.reason
+    yield "success", True, verdict
     right = path.copy()
     right[20:40, 1] = 0.05  # round the other side
-    assert not task.check(world, _trace(right, {obj: b}), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace(right, {obj: b}), attrs, TOL)
     over = path.copy()
     over[20:40, 2] = 0.09  # over the top is not on its left
-    assert not task.check(world, _trace(over, {obj: b}), attrs, TOL).success
-    assert not task.check(world, _trace(left[:15], {obj: b}), attrs, TOL).success  # never passed
+    yield 'near miss', False, task.check(world, _trace(over, {obj: b}), attrs, TOL)
+    yield 'never passed', False, task.check(world, _trace(left[:15], {obj: b}), attrs, TOL)
     top = {**attrs, "preposition": "top of"}
     over_top = path.copy()
     over_top[20:40, 1:] = (-0.01, 0.08)
-    assert task.check(world, _trace(over_top, {obj: b}), top, TOL).success
-    assert not task.check(world, _trace(left, {obj: b}), top, TOL).success  # beside it
+    yield 'success', True, task.check(world, _trace(over_top, {obj: b}), top, TOL)
+    yield 'beside it', False, task.check(world, _trace(left, {obj: b}), top, TOL)
 
 
-def test_velocity_near_obj(world) -> None:
+@_cases("move_to_pos_velocity_near_obj")
+def _velocity_near_obj(world) -> Iterator[Case]:
     """Inside [dist] of the block's faces the speed must match the word; the zone counts from
     the faces, so a path 8 cm from the centre is inside a 6 cm zone."""
     task, attrs = _setup(world, "move_to_pos_velocity_near_obj")
@@ -129,24 +147,26 @@ def test_velocity_near_obj(world) -> None:
     block = end + [0.15, 0.08, -0.025]  # 8 cm beside the path: 5.5 cm from its faces
     slow = _line(end + [0.4, 0, 0], end, 400)  # 0.4 m in 8 s: 0.05 m/s = 0.2x
     fast = _line(end + [0.4, 0, 0], end, 40)  # 0.5 m/s = 2x
-    assert task.check(world, _trace(slow, {obj: block}), attrs, TOL).success
+    yield 'success', True, task.check(world, _trace(slow, {obj: block}), attrs, TOL)
     verdict = task.check(world, _trace(fast, {obj: block}), attrs, TOL)
     assert not verdict.success and verdict.metrics["speed_ratio"] > 1.5
-    assert not task.check(world, _trace(slow[:200], {obj: block}), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace(slow[:200], {obj: block}), attrs, TOL)
 
 
-def test_close_drawer(world) -> None:
+@_cases("close_drawer")
+def _close_drawer(world) -> Iterator[Case]:
     task, attrs = _setup(world, "close_drawer")
     which = DEIXIS_DRAWER[attrs["deixis"]]
     assert world.drawer_opening(which) > 0.09
     joint = world.model.joint(f"{which}_drawer_joint").qposadr[0]
     world.data.qpos[joint] = 0.005
-    assert task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'success', True, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
     world.data.qpos[joint] = 0.03
-    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
 
 
-def test_push_along_line(world) -> None:
+@_cases("push_along_line")
+def _push_along_line(world) -> Iterator[Case]:
     task, attrs = _setup(world, "push_along_line")
     c = world.object_position(attrs["line"])
     yaw = world.object_yaw(attrs["line"])
@@ -155,14 +175,15 @@ def test_push_along_line(world) -> None:
     start = c - 0.17 * u
     along = _line(start, c + 0.02 * u)
     ee = np.zeros_like(along)
-    assert task.check(world, _trace(ee, {attrs["obj"]: along}), attrs, TOL).success
+    yield 'success', True, task.check(world, _trace(ee, {attrs["obj"]: along}), attrs, TOL)
     wobble = along + 0.06 * n * np.sin(np.linspace(0, np.pi, len(along)))[:, None]
-    assert not task.check(world, _trace(ee, {attrs["obj"]: wobble}), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace(ee, {attrs["obj"]: wobble}), attrs, TOL)
     short = _line(start, start + 0.04 * u)
-    assert not task.check(world, _trace(ee, {attrs["obj"]: short}), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace(ee, {attrs["obj"]: short}), attrs, TOL)
 
 
-def test_grasp_at_velocity(world) -> None:
+@_cases("grasp_at_velocity")
+def _grasp_at_velocity(world) -> Iterator[Case]:
     task, attrs = _setup(world, "grasp_at_velocity")
     attrs = {**attrs, "velocity": "faster speed"}
     obj = attrs["obj"]
@@ -170,49 +191,53 @@ def test_grasp_at_velocity(world) -> None:
     b = world.object_position(obj)
     approach = _line([-0.23, 0, 0.47], b, 25)  # ~0.5 m in 0.5 s: 4x
     trace = _trace(approach, {obj: b})
-    assert not task.check(world, trace, attrs, TOL).success  # nothing held
+    yield 'nothing held', False, task.check(world, trace, attrs, TOL)
     _set_block(world, obj, world.get_ee_pose()[0])
     verdict = task.check(world, trace, attrs, TOL)
     # the block is at the hand, but the fingers are closed on nothing: that alone rejects it
-    assert not verdict.success
+    yield "closed on nothing", False, verdict
     assert verdict.metrics["hand_dist"] <= TOL.held_distance_m
     assert verdict.metrics["opening"] < TOL.held_opening_m[0]
 
 
-def test_drop_to_pos(world) -> None:
+@_cases("drop_to_pos")
+def _drop_to_pos(world) -> Iterator[Case]:
     task, attrs = _setup(world, "drop_to_pos")
     place = get_place(attrs["pos"])
     obj = attrs["obj"]
-    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
     _set_block(world, obj, [*place.point, 0.025])
-    assert task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'success', True, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
     _set_block(world, obj, [place.point[0], place.point[1] + 0.3 * (1 if place.point[1] < 0
                                                                       else -1), 0.025])
-    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
 
 
-def test_push_stay_on_region(world) -> None:
+@_cases("push_stay_on_region")
+def _push_stay_on_region(world) -> Iterator[Case]:
     task, _ = _setup(world, "push_stay_on_region")
     obj = "blue block"
     attrs = {"obj": obj, "region": "right side of the table"}
     path = _line([-0.25, 0.28, 0.025], [-0.05, 0.28, 0.025])
-    assert task.check(world, _trace(np.zeros_like(path), {obj: path}), attrs, TOL).success
+    yield 'success', True, task.check(world, _trace(np.zeros_like(path), {obj: path}), attrs, TOL)
     leaves = path.copy()
     leaves[30, 1] = 0.10
-    assert not task.check(world, _trace(np.zeros_like(path), {obj: leaves}), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace(np.zeros_like(path), {obj: leaves}), attrs, TOL)
     still = np.repeat(path[:1], 10, axis=0)
-    assert not task.check(world, _trace(np.zeros_like(still), {obj: still}), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace(np.zeros_like(still), {obj: still}), attrs, TOL)
 
 
-def test_move_to_region(world) -> None:
+@_cases("move_to_region")
+def _move_to_region(world) -> Iterator[Case]:
     task, _ = _setup(world, "move_to_region")
     attrs = {"region": "back side of the table"}
-    assert task.check(world, _trace([[-0.42, 0.1, 0.06]]), attrs, TOL).success
-    assert not task.check(world, _trace([[-0.30, 0.1, 0.06]]), attrs, TOL).success
-    assert not task.check(world, _trace([[-0.42, 0.1, 0.30]]), attrs, TOL).success  # too high
+    yield 'success', True, task.check(world, _trace([[-0.42, 0.1, 0.06]]), attrs, TOL)
+    yield 'near miss', False, task.check(world, _trace([[-0.30, 0.1, 0.06]]), attrs, TOL)
+    yield 'too high', False, task.check(world, _trace([[-0.42, 0.1, 0.30]]), attrs, TOL)
 
 
-def test_min_distance(world) -> None:
+@_cases("move_to_pos_min_distance")
+def _min_distance(world) -> Iterator[Case]:
     """The distance counts from the block's faces: 9 cm from the centre is only 6.5 cm away."""
     task, _ = _setup(world, "move_to_pos_min_distance")
     obj = "blue block"
@@ -222,11 +247,12 @@ def test_min_distance(world) -> None:
     far = path[30] + [0, 0.11, -0.075]
     near = path[30] + [0, 0.09, -0.075]
     verdict = task.check(world, _trace(path, {obj: far}), attrs, TOL)
-    assert verdict.success, verdict.reason
-    assert not task.check(world, _trace(path, {obj: near}), attrs, TOL).success
+    yield "success", True, verdict
+    yield 'near miss', False, task.check(world, _trace(path, {obj: near}), attrs, TOL)
 
 
-def test_velocity_in_region(world) -> None:
+@_cases("move_to_pos_velocity_in_region")
+def _velocity_in_region(world) -> Iterator[Case]:
     task, _ = _setup(world, "move_to_pos_velocity_in_region")
     attrs = {"pos": "right side of the table", "velocity": "3x speed",
              "region": "right side of the table"}
@@ -234,11 +260,12 @@ def test_velocity_in_region(world) -> None:
     start = np.array([-0.2, -0.1, 0.05])
     fast = _line(start, end, 20)  # 0.38 m in 0.4 s ≈ 3.8x
     slow = _line(start, end, 80)  # ≈ 0.95x
-    assert task.check(world, _trace(fast), attrs, TOL).success
-    assert not task.check(world, _trace(slow), attrs, TOL).success
+    yield 'success', True, task.check(world, _trace(fast), attrs, TOL)
+    yield 'near miss', False, task.check(world, _trace(slow), attrs, TOL)
 
 
-def test_push_avoid_obstacle(world) -> None:
+@_cases("push_to_pos_avoid_obstacle")
+def _push_avoid_obstacle(world) -> Iterator[Case]:
     task, attrs = _setup(world, "push_to_pos_avoid_obstacle")
     obj, obstacle = attrs["obj"], attrs["obstacle"]
     attrs = {**attrs, "pos": "back right corner of the table"}
@@ -250,20 +277,34 @@ def test_push_avoid_obstacle(world) -> None:
     n = np.array([-d[1], d[0], 0.0]) / np.linalg.norm(d[:2])
     trace = _trace(np.zeros_like(path), {obj: path, obstacle: mid + 0.1 * n})
     verdict = task.check(world, trace, attrs, TOL)
-    assert verdict.success, verdict.reason
+    yield "success", True, verdict
     close = _trace(np.zeros_like(path), {obj: path, obstacle: mid + 0.04 * n})
-    assert not task.check(world, close, attrs, TOL).success
+    yield 'near miss', False, task.check(world, close, attrs, TOL)
 
 
-def test_push_to_pos(world) -> None:
+@_cases("push_to_pos")
+def _push_to_pos(world) -> Iterator[Case]:
     task, attrs = _setup(world, "push_to_pos")
     obj = attrs["obj"]
     place = get_place(attrs["pos"])
-    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
     _set_block(world, obj, [*place.point, 0.025])
-    assert task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'success', True, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
     _set_block(world, obj, [*place.point, 0.2])  # over the place but not resting
-    assert not task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL).success
+    yield 'near miss', False, task.check(world, _trace([[0, 0, 0.4]]), attrs, TOL)
+
+
+@pytest.mark.parametrize("name", list(TASKS))
+def test_constructed_success_and_near_misses(world, name: str) -> None:
+    """Every registered task's check accepts its constructed successes and rejects its
+    constructed near-misses (a task without cases fails here; a held grasp cannot be
+    constructed without physics, so grasp_at_velocity has near-misses only)."""
+    assert name in CASES, f"task {name!r} declares no constructed success/near-miss cases"
+    cases = list(CASES[name](world))
+    assert any(not ok for _, ok, _ in cases)
+    assert name == "grasp_at_velocity" or any(ok for _, ok, _ in cases)
+    for label, expected, verdict in cases:
+        assert bool(verdict.success) == expected, (label, verdict.reason)
 
 
 def test_programs_add_object_entries() -> None:
