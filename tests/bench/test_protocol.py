@@ -124,13 +124,13 @@ class _Capture:
 def test_unseen_instructions_hold_the_task_out_of_the_prompts(monkeypatch, instructions: str,
                                                               held_out: str | None) -> None:
     import voxposer.bench.primitives as primitives
-    import voxposer.control.robot_handoff as world_executor
+    import voxposer.control.robot_handoff as robot_handoff
     import voxposer.lmp.runtime as runtime
     import voxposer.lmp.scene as scene
 
     monkeypatch.setattr(runtime, "LMPRuntime", _Capture)
     monkeypatch.setattr(primitives, "PrimitivesRuntime", _Capture)
-    monkeypatch.setattr(world_executor, "RobotHandoff", lambda *a, **k: None)
+    monkeypatch.setattr(robot_handoff, "RobotHandoff", lambda *a, **k: None)
     monkeypatch.setattr(scene, "WorldScene", lambda world: None)
     setup = SimpleNamespace(task="push_to_pos", instruction="push it", rng=np.random.default_rng())
     for method, position in (("voxposer", 3), ("llm_primitives", 2)):
