@@ -129,6 +129,12 @@ class SandboxError(VoxPoserError):
     """Generated code used a refused construct, or exceeded a time or size limit."""
 
 
+class VoxelIndexError(SandboxError, IndexError):
+    """Generated code indexed a value map outside its grid: a negative voxel index (which numpy
+    would silently wrap to the far side of the grid) or one past the end; the message names the
+    index, the axis and the array's shape."""
+
+
 class ProgramError(VoxPoserError):
     """A language model program's code failed (after any retries); carries the last attempt."""
 

@@ -5,8 +5,12 @@ Generated code is compiled in three passes: a static check (imports, ``try``, ``
 dunder names, frame/code attributes, ``str.format``), RestrictedPython's transformer (guards every
 attribute read, item read, write and iteration), and a rewrite of arithmetic into size-checked
 calls (:mod:`voxposer.lmp.sandbox_limits`). At run time the code sees only the names it is given
-plus a small set of safe builtins; numpy arrives through a size-limited proxy; a wall-time limit
-is enforced with ``sys.settrace`` (per thread, so it works off the main thread too).
+plus a small set of safe builtins (:mod:`voxposer.lmp.sandbox_builtins`); numpy arrives through a
+size- and work-limited proxy (:mod:`voxposer.lmp.sandbox_numpy`); attributes of what it holds come
+from an allowlist whose allocating methods are size-checked (:mod:`voxposer.lmp.sandbox_attrs`);
+item reads and writes follow the voxel-index rule (:mod:`voxposer.lmp.sandbox_index`); a
+wall-time limit is enforced with ``sys.settrace`` (per thread, so it works off the main thread
+too); runaway recursion is reported as such.
 
 Every violation raises :class:`voxposer.errors.SandboxError` naming the refused construct.
 Ordinary exceptions of the code itself (``NameError``, ``IndexError``…) propagate unchanged so
@@ -21,7 +25,6 @@ Usable alone::
 
 from __future__ import annotations
 
-import builtins
 import contextlib
 import logging
 import sys
@@ -30,7 +33,7 @@ import time
 import types
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any, Final
+from typing import Any
 
 import numpy as np
 from RestrictedPython import PrintCollector
@@ -38,23 +41,19 @@ from RestrictedPython.Guards import guarded_iter_unpack_sequence, guarded_unpack
 from scipy.spatial.transform import Rotation
 
 from voxposer.errors import ConfigError, SandboxError
+from voxposer.lmp.sandbox_attrs import AttributePolicy
+from voxposer.lmp.sandbox_builtins import make_builtins
 from voxposer.lmp.sandbox_compile import (
     SANDBOX_FILENAME,
     check_attr_name,
     compile_sandboxed,
 )
-from voxposer.lmp.sandbox_limits import NumpyProxy, SizeGuard, make_binop_guard
+from voxposer.lmp.sandbox_index import WriteTarget, guarded_getitem
+from voxposer.lmp.sandbox_limits import Limits, SizeGuard, make_binop_guard
+from voxposer.lmp.sandbox_numpy import NumpyProxy
+from voxposer.lmp.sandbox_work import WorkGuard
 
 logger = logging.getLogger(__name__)
-
-_SAFE_BUILTINS: Final = (
-    "abs", "all", "any", "bool", "callable", "chr", "dict", "divmod", "enumerate", "filter",
-    "float", "frozenset", "hash", "int", "isinstance", "issubclass", "iter", "len", "list", "map",
-    "max", "min", "next", "ord", "repr", "reversed", "round", "set", "slice", "sorted", "str",
-    "sum", "tuple", "zip", "None", "True", "False", "ArithmeticError", "AssertionError",
-    "Exception", "IndexError", "KeyError", "NameError", "TypeError", "ValueError",
-    "ZeroDivisionError", "StopIteration",
-)
 
 
 @dataclass(frozen=True)
@@ -66,10 +65,16 @@ class SandboxConfig:
             trusted callbacks inside :func:`suspend_time_limit`, e.g. nested LLM calls, is not
             counted).
         max_elements: largest array / sequence generated code may create [elements].
+        max_work: most operations one super-linear call may take [multiply-adds or
+            comparisons]: a matrix product, a ``np.linalg`` factorisation, a sort, a
+            convolution (:mod:`voxposer.lmp.sandbox_work`). The default, 1e9, is about a second
+            of CPU and far above what value-map code on a 100 x 100 x 100 grid needs (sorting
+            all 1e6 voxels is 2e7; their coordinates times a 3 x 3 matrix, 9e6).
     """
 
     time_limit_s: float = 10.0
     max_elements: int = 64_000_000
+    max_work: int = 1_000_000_000
 
     def __post_init__(self) -> None:
         if not (isinstance(self.time_limit_s, int | float) and 0 < self.time_limit_s <= 3600):
@@ -78,6 +83,10 @@ class SandboxConfig:
         if not (isinstance(self.max_elements, int) and self.max_elements >= 1000):
             raise ConfigError(f"SandboxConfig.max_elements must be an int >= 1000; got "
                               f"{self.max_elements!r}")
+        if not (isinstance(self.max_work, int) and not isinstance(self.max_work, bool)
+                and self.max_work >= 1_000_000):
+            raise ConfigError(f"SandboxConfig.max_work must be an int >= 1,000,000 "
+                              f"[operations]; got {self.max_work!r}")
 
 
 # ----------------------------------------------------------------------------- time limit
@@ -139,18 +148,11 @@ class _LoggingPrint(PrintCollector):
         logger.debug("generated code printed: %s", " ".join(str(o) for o in objects))
 
 
-def _guarded_getattr(obj: Any, name: str, *default: Any) -> Any:
-    check_attr_name(name)
-    if isinstance(obj, types.ModuleType):
-        raise SandboxError(f"refused: attribute `.{name}` of module {obj.__name__}")
-    return getattr(obj, name, *default)
-
-
-def _guarded_write(obj: Any) -> Any:
+def _guarded_write(obj: Any) -> WriteTarget:
     if isinstance(obj, types.ModuleType | type | NumpyProxy | types.FunctionType
                   | types.BuiltinFunctionType):
         raise SandboxError(f"refused: modifying {type(obj).__name__} objects")
-    return obj
+    return WriteTarget(obj)
 
 
 class Sandbox:
@@ -158,25 +160,20 @@ class Sandbox:
 
     def __init__(self, config: SandboxConfig | None = None) -> None:
         self.config = config or SandboxConfig()
-        self._size = SizeGuard(self.config.max_elements)
-        self.numpy = NumpyProxy(np, self._size)
-        binop = make_binop_guard(self._size)
-        guard = self._size
+        self.limits = Limits(SizeGuard(self.config.max_elements),
+                             WorkGuard(self.config.max_work))
+        self.numpy = NumpyProxy(np, self.limits)
+        binop = make_binop_guard(self.limits)
+        policy = AttributePolicy(self.limits)
 
-        def safe_range(*args: int) -> range:
-            r = range(*args)
-            guard.check(len(r), "range(...)")
-            return r
+        def getattr_(obj: Any, name: str) -> Any:
+            check_attr_name(name)
+            return policy.get(obj, name)
 
-        def safe_pow(a: Any, b: Any, *mod: Any) -> Any:
-            return binop("**", a, b) if not mod else builtins.pow(a, b, *mod)
-
-        names = {name: getattr(builtins, name) for name in _SAFE_BUILTINS}
-        names.update(range=safe_range, pow=safe_pow, print=print)
-        self._builtins = names
+        self._builtins = make_builtins(self.limits, binop)
         self._guards: dict[str, Any] = {
-            "_getattr_": _guarded_getattr,
-            "_getitem_": lambda obj, key: obj[key],
+            "_getattr_": getattr_,
+            "_getitem_": guarded_getitem(self.limits.size),
             "_write_": _guarded_write,
             "_getiter_": iter,
             "_iter_unpack_sequence_": guarded_iter_unpack_sequence,
@@ -203,7 +200,9 @@ class Sandbox:
         code's own variables. ``variables`` is not modified.
 
         Raises:
-            SandboxError: a refused construct, or the time or size limit was exceeded.
+            SandboxError: a refused construct, the time, size or work limit was exceeded, a
+                voxel index left the grid (:class:`~voxposer.errors.VoxelIndexError`), or the
+                code recursed too deeply.
             SyntaxError, Exception: whatever the generated code itself raised.
         """
         compiled = compile_sandboxed(code) if isinstance(code, str) else code
@@ -218,6 +217,11 @@ class Sandbox:
         sys.settrace(_trace)
         try:
             exec(compiled, namespace)
+        except RecursionError as exc:
+            raise SandboxError(
+                f"recursion limit: the generated code nested its calls too deeply (more than "
+                f"about {sys.getrecursionlimit()} levels; an endless recursion?); use a loop"
+            ) from exc
         finally:
             sys.settrace(previous)
             stack.pop()

@@ -2,7 +2,8 @@
 
 Three passes over the generated code's syntax tree: a static check refusing imports, ``try``,
 ``class``, ``global``, dangerous names (``eval``, ``exec``, ``open``, ``getattr``, ``globals``…),
-private and dunder names, and frame/code attributes, with messages the LLM can act on;
+private and dunder names, frame/code attributes and huge or computed f-string widths, with
+messages the LLM can act on;
 RestrictedPython's transformer, which guards every attribute read, item access, write and
 iteration; and a rewrite of arithmetic into size-checked calls (:mod:`voxposer.lmp.sandbox_limits`).
 """
@@ -10,6 +11,7 @@ iteration; and a rewrite of arithmetic into size-checked calls (:mod:`voxposer.l
 from __future__ import annotations
 
 import ast
+import re
 import sys
 import types
 from typing import Final
@@ -32,10 +34,13 @@ REFUSED_NAMES: Final[dict[str, str]] = {
 }
 #: Attribute names refused on any object (frames, code, generators, formatting tricks, files).
 REFUSED_ATTRS: Final = frozenset({
-    "format", "format_map", "mro", "tofile", "dump", "dumps", "ctypes", "resize", "ljust",
+    "format", "format_map", "mro", "tofile", "dump", "dumps", "ctypes", "ljust",
     "rjust", "center", "zfill", "expandtabs",
 })
 REFUSED_ATTR_PREFIXES: Final = ("_", "f_", "gi_", "cr_", "ag_", "tb_", "co_", "func_")
+#: Widest f-string field (width or precision) generated code may ask for [characters].
+MAX_FORMAT_WIDTH: Final = 10_000
+_SPEC_NUMBERS: Final = re.compile(r"\d+")
 
 
 # ------------------------------------------------------------------------ static check
@@ -70,8 +75,28 @@ class _StaticCheck(ast.NodeVisitor):
         check_attr_name(node.attr, f" (line {node.lineno})")
         self.generic_visit(node)
 
+    def visit_FormattedValue(self, node: ast.FormattedValue) -> None:
+        """f-string fields: a constant spec only, its width/precision at most 10,000."""
+        spec = node.format_spec
+        if spec is not None:
+            parts = spec.values if isinstance(spec, ast.JoinedStr) else [spec]
+            if not all(isinstance(p, ast.Constant) for p in parts):
+                raise SandboxError(f"refused: a computed format spec in an f-string (line "
+                                   f"{node.lineno}); write the width as a number")
+            text = "".join(str(p.value) for p in parts if isinstance(p, ast.Constant))
+            widest = max((int(n) for n in _SPEC_NUMBERS.findall(text)), default=0)
+            if widest > MAX_FORMAT_WIDTH:
+                raise SandboxError(f"size limit: the f-string field width {widest} (line "
+                                   f"{node.lineno}) is above {MAX_FORMAT_WIDTH:,}")
+        self.visit(node.value)
+
 
 def check_attr_name(name: str, where: str = "") -> None:
+    """Refuse private/dunder/frame attribute names and :data:`REFUSED_ATTRS` on any object.
+
+    Runs at compile time and again at run time, before the attribute allowlist
+    (:mod:`voxposer.lmp.sandbox_attrs`) looks at the object.
+    """
     if name.startswith(REFUSED_ATTR_PREFIXES):
         kind = "dunder" if name.startswith("__") else "private or internal"
         raise SandboxError(f"refused: {kind} attribute `.{name}`{where}")
