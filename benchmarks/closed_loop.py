@@ -22,13 +22,10 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from voxposer.control import ExecutorConfig
-from voxposer.control.robot_handoff import RobotHandoff
 from voxposer.envs import TabletopWorld
 from voxposer.envs.layout import SceneLayout
 from voxposer.lmp.backends.replay import ReplayBackend
-from voxposer.lmp.runtime import LMPRuntime
-from voxposer.lmp.scene import WorldScene
+from voxposer.pipeline import Embodiment, voxposer_runtime
 from voxposer.planning.mpc import random_shooting
 from voxposer.planning.push_primitive import PushConfig
 from voxposer.valuemaps import compose_cost_map
@@ -43,14 +40,15 @@ def main() -> None:
     args = parser.parse_args()
     console = Console(stderr=True)
     world = TabletopWorld()
+    body = Embodiment.simulated(world)
     steps: list[dict[str, float]] = []
     successes = 0
     for seed in range(args.episodes):
         layout = SceneLayout(blocks=("blue", "green"), poses={"blue block": (0.0, -0.1 + 0.05 * seed),
                                                               "green block": (-0.12, -0.2)})
         world.reset(np.random.default_rng(seed), layout)
-        executor = RobotHandoff(world, np.random.default_rng(seed), ExecutorConfig())
-        runtime = LMPRuntime(WorldScene(world), ReplayBackend(RECORDINGS), executor)
+        runtime, executor = voxposer_runtime(body, ReplayBackend(RECORDINGS),
+                                             np.random.default_rng(seed))
         with console.status(f"rollout {seed + 1}/{args.episodes}"):
             runtime.run(INSTRUCTION)
         result = executor.records[-1].result
@@ -59,7 +57,7 @@ def main() -> None:
 
     # one random-shooting step: 10,000 pushes of the blue block toward a target
     world.reset(np.random.default_rng(0), SceneLayout(blocks=("blue",), poses={"blue block": (0.0, 0.0)}))
-    block = world.detect("blue block")
+    block = body.perceiver.detect("blue block")
     grid = world.grid
     aff = np.zeros(grid.shape, np.float32)
     aff[tuple(grid.world_to_voxel(block.position + [0.15, 0.1, 0.0]))] = 1

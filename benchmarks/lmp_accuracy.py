@@ -31,8 +31,8 @@ from scipy.spatial.transform import Rotation
 
 sys.path.insert(0, str(Path(__file__).parent))
 from lmp_cases import all_cases
+from voxposer.cli.llm_options import add_llm_options, backend_from_args
 from voxposer.lmp.api import parse_side
-from voxposer.lmp.cli_backend import add_backend_args, backend_from_args
 from voxposer.lmp.handoff import RecordingHandler
 from voxposer.lmp.registry import LMPConfig
 from voxposer.lmp.runtime import LMPRuntime
@@ -187,7 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--split", choices=("seen", "unseen"), default=None)
     parser.add_argument("--max-attempts", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path("runs/lmp_accuracy.jsonl"))
-    add_backend_args(parser)
+    add_llm_options(parser)
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
 

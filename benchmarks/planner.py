@@ -18,8 +18,8 @@ from rich.console import Console
 from rich.progress import track
 from rich.table import Table
 
-from voxposer.envs.synthetic import make_synthetic_scene
 from voxposer.planning import PathPlanner, PlannerConfig
+from voxposer.planning.synthetic_scene import make_synthetic_scene
 
 
 def main() -> None:

@@ -35,11 +35,12 @@ from typing import Final, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from voxposer import tabletop
 from voxposer.errors import ConfigError
 
-#: Table top extent [m] (``WorldConfig.table_min/max``), used to express places as fractions.
-TABLE_MIN: Final = (-0.70, -0.50)
-TABLE_MAX: Final = (0.30, 0.50)
+#: Table top extent [m] (:mod:`voxposer.tabletop`), used to express places as fractions.
+TABLE_MIN: Final = tabletop.TABLE_MIN
+TABLE_MAX: Final = tabletop.TABLE_MAX
 
 
 @dataclass(frozen=True)

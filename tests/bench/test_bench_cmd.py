@@ -9,9 +9,9 @@ from typing import Any, ClassVar
 
 import pytest
 
-from voxposer.bench import bench_cmd
 from voxposer.bench.tasks import TASKS
 from voxposer.bench.tasks.move_to_region import MoveToRegion
+from voxposer.cli import bench as bench_cmd
 from voxposer.errors import ConfigError
 
 

@@ -9,14 +9,12 @@ import numpy as np
 import pytest
 
 from voxposer.bench.primitives import Primitives
-from voxposer.envs import MoveResult
 from voxposer.errors import MoveMissedError
+from voxposer.robot import MoveResult
 
 
 class _BlockedArm:
-    """A test double of the world: moves stop 4 cm short of any target beyond x = 0.1 m."""
-
-    config = SimpleNamespace(controller=SimpleNamespace(max_speed_scale=3.0))
+    """A test double of a robot: moves stop 4 cm short of any target beyond x = 0.1 m."""
 
     def __init__(self) -> None:
         self.ee = np.array([0.0, 0.0, 0.3])
@@ -32,7 +30,7 @@ class _BlockedArm:
 
 
 def test_a_blocked_move_raises_with_the_target_and_the_miss() -> None:
-    prims = Primitives(_BlockedArm())
+    prims = Primitives(_BlockedArm(), SimpleNamespace(), max_speed_scale=3.0)
     prims.move_to_pos([0.05, 0.0, 0.2])  # reachable: no error
     with pytest.raises(MoveMissedError, match=r"0\.2.*4\.0 cm") as info:
         prims.move_to_pos([0.2, 0.0, 0.2])

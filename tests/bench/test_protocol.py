@@ -124,18 +124,20 @@ class _Capture:
 def test_unseen_instructions_hold_the_task_out_of_the_prompts(monkeypatch, instructions: str,
                                                               held_out: str | None) -> None:
     import voxposer.bench.primitives as primitives
-    import voxposer.control.robot_handoff as robot_handoff
-    import voxposer.lmp.runtime as runtime
-    import voxposer.lmp.scene as scene
+    import voxposer.pipeline as pipeline
 
-    monkeypatch.setattr(runtime, "LMPRuntime", _Capture)
-    monkeypatch.setattr(primitives, "PrimitivesRuntime", _Capture)
-    monkeypatch.setattr(robot_handoff, "RobotHandoff", lambda *a, **k: None)
-    monkeypatch.setattr(scene, "WorldScene", lambda world: None)
+    def fake_runtime(*args: Any, **kwargs: Any) -> tuple[_Capture, None]:
+        return _Capture(kwargs["lmp_config"]), None
+
+    monkeypatch.setattr(pipeline, "voxposer_runtime", fake_runtime)
+    monkeypatch.setattr(pipeline.Embodiment, "simulated", classmethod(lambda cls, world: None))
+    monkeypatch.setattr(primitives, "PrimitivesRuntime",
+                        lambda body, backend, config, **kw: _Capture(config))
+    world = SimpleNamespace(config=SimpleNamespace(controller=SimpleNamespace(max_speed_scale=5)))
     setup = SimpleNamespace(task="push_to_pos", instruction="push it", rng=np.random.default_rng())
-    for method, position in (("voxposer", 3), ("llm_primitives", 2)):
-        get_method(method).run(object(), None, setup, 10.0, instructions)  # type: ignore[arg-type]
-        config = _Capture.last.args[position]
+    for method in ("voxposer", "llm_primitives"):
+        get_method(method).run(world, None, setup, 10.0, instructions)  # type: ignore[arg-type]
+        config = _Capture.last.args[0]
         assert (None if config is None else config.held_out_task) == held_out
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from voxposer.bench import BenchConfig, run_bench
-from voxposer.bench.bench_cmd import write_outputs
+from voxposer.bench.outputs import write_outputs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks import TASKS, get_task
 from voxposer.bench.version import code_version

@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from tests.perceive import perceive
 from voxposer.control import ClosedLoopController
 from voxposer.control.anchoring import SelfRelativeAnchor
 from voxposer.envs import TabletopWorld
@@ -53,8 +54,8 @@ def test_the_hand_reaches_a_point_above_itself_instead_of_chasing_it(
         m[tuple(world.grid.world_to_voxel(world.get_ee_pose()[0] + [0, 0, 0.08]))] = 1
         return m
 
-    result = ClosedLoopController(world, np.random.default_rng(6))(
-        lambda: world.detect("gripper"), above_the_gripper
+    result = ClosedLoopController(world, perceive(world), np.random.default_rng(6))(
+        lambda: perceive(world).detect("gripper"), above_the_gripper
     )
     assert result.success, result.message
     assert abs(world.get_ee_pose()[0][2] - (start[2] + 0.08)) < 0.03
@@ -68,16 +69,16 @@ def test_a_drawer_pushed_by_a_handle_relative_target_closes_all_the_way(
     world.reset(np.random.default_rng(7),
                 SceneLayout(blocks=("blue",), drawer_openings={"top": 0.15}, extra_blocks=(0, 0)))
     api = ValueMapAPI(world.grid, lambda: world.get_ee_pose()[1], world.get_gripper_state)
-    axis = world.sliding_axis("top drawer")
+    axis = world.drawer_axis("top drawer")
 
     def twelve_cm_in() -> np.ndarray:  # less than the opening: only "until it stops" closes it
         m = api.get_empty_affordance_map()
-        handle = world.detect("top drawer handle").position
+        handle = perceive(world).detect("top drawer handle").position
         m[tuple(world.grid.world_to_voxel(handle - 0.12 * axis))] = 1
         return m
 
-    result = ClosedLoopController(world, np.random.default_rng(7))(
-        lambda: world.detect("top drawer handle"), twelve_cm_in
+    result = ClosedLoopController(world, perceive(world), np.random.default_rng(7))(
+        lambda: perceive(world).detect("top drawer handle"), twelve_cm_in
     )
     assert result.success, result.message
     assert world.drawer_opening("top") < 0.02

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from tests.perceive import perceive
 from voxposer.control import ClosedLoopController, ExecutorConfig
 from voxposer.envs import TabletopWorld
 from voxposer.envs.layout import SceneLayout
@@ -31,19 +32,19 @@ def test_move_above_a_block_while_avoiding_another(world: TabletopWorld) -> None
     api, grid = _api(world), world.grid
 
     def affordance() -> np.ndarray:
-        blue = world.detect("blue block")
+        blue = perceive(world).detect("blue block")
         m = api.get_empty_affordance_map()
         m[tuple(grid.world_to_voxel(blue.position + [0, 0, 0.08]))] = 1
         return m
 
     def avoidance() -> np.ndarray:
-        green = world.detect("green block")
+        green = perceive(world).detect("green block")
         m = api.get_empty_avoidance_map()
         api.set_voxel_by_radius(m, grid.world_to_voxel(green.position), 10, 1)
         return m
 
-    result = ClosedLoopController(world, np.random.default_rng(0))(
-        lambda: world.detect("gripper"), affordance, avoidance
+    result = ClosedLoopController(world, perceive(world), np.random.default_rng(0))(
+        lambda: perceive(world).detect("gripper"), affordance, avoidance
     )
     assert result.success, result.message
     goal = world.object_position("blue block") + [0, 0, 0.08]
@@ -65,8 +66,8 @@ def test_push_a_block_to_a_target(world: TabletopWorld) -> None:
         return m
 
     start = world.object_position("blue block")
-    result = ClosedLoopController(world, np.random.default_rng(1))(
-        lambda: world.detect("blue block"), affordance
+    result = ClosedLoopController(world, perceive(world), np.random.default_rng(1))(
+        lambda: perceive(world).detect("blue block"), affordance
     )
     end = world.object_position("blue block")
     assert result.success, result.message
@@ -79,12 +80,12 @@ def test_displaced_target_is_followed_in_closed_loop(world: TabletopWorld) -> No
     api, grid = _api(world), world.grid
 
     def affordance() -> np.ndarray:
-        blue = world.detect("blue block")
+        blue = perceive(world).detect("blue block")
         m = api.get_empty_affordance_map()
         m[tuple(grid.world_to_voxel(blue.position + [0, 0, 0.06]))] = 1
         return m
 
-    executor = ClosedLoopController(world, np.random.default_rng(2))
+    executor = ClosedLoopController(world, perceive(world), np.random.default_rng(2))
     moved = []
 
     def disturb(result, plan) -> None:
@@ -92,7 +93,7 @@ def test_displaced_target_is_followed_in_closed_loop(world: TabletopWorld) -> No
             moved.append(world.displace_object(np.random.default_rng(7), "blue block"))
 
     executor.on_replan = disturb
-    result = executor(lambda: world.detect("gripper"), affordance)
+    result = executor(lambda: perceive(world).detect("gripper"), affordance)
     assert moved, "the disturbance was applied"
     assert result.success, result.message
     goal = world.object_position("blue block") + [0, 0, 0.06]
@@ -101,9 +102,9 @@ def test_displaced_target_is_followed_in_closed_loop(world: TabletopWorld) -> No
 
 def test_missing_affordance_and_unreachable_targets_end_with_a_reason(world: TabletopWorld) -> None:
     world.reset(np.random.default_rng(3), _layout(blue_block=(0.0, 0.0)))
-    executor = ClosedLoopController(world, np.random.default_rng(3), ExecutorConfig(max_time_s=3.0))
+    executor = ClosedLoopController(world, perceive(world), np.random.default_rng(3), ExecutorConfig(max_time_s=3.0))
     with pytest.raises(PlanningError, match="needs an affordance_map"):
-        executor(lambda: world.detect("gripper"))
+        executor(lambda: perceive(world).detect("gripper"))
     api = _api(world)
     grid = world.grid
 
@@ -112,7 +113,7 @@ def test_missing_affordance_and_unreachable_targets_end_with_a_reason(world: Tab
         m[tuple(grid.world_to_voxel([0.0, 0.0, -0.015]))] = 1
         return m
 
-    result = executor(lambda: world.detect("gripper"), inside_table)
+    result = executor(lambda: perceive(world).detect("gripper"), inside_table)
     assert not result.success and result.reason in ("planning_failed", "stalled", "timeout")
     assert "target" in result.message
 
@@ -121,7 +122,7 @@ def test_missing_affordance_and_unreachable_targets_end_with_a_reason(world: Tab
         m[tuple(grid.world_to_voxel([0.29, 0.49, 0.9]))] = 1
         return m
 
-    result = executor(lambda: world.detect("gripper"), out_of_reach)
+    result = executor(lambda: perceive(world).detect("gripper"), out_of_reach)
     assert not result.success and result.reason in ("stalled", "timeout")
     assert "cm from the target" in result.message
 
@@ -130,15 +131,15 @@ def test_close_a_drawer_by_pushing_its_handle(world: TabletopWorld) -> None:
     layout = SceneLayout(blocks=("blue",), drawer_openings={"top": 0.15}, extra_blocks=(0, 0))
     world.reset(np.random.default_rng(4), layout)
     api, grid = _api(world), world.grid
-    closed = world.detect("top drawer handle").position - 0.15 * world.sliding_axis("top drawer")
+    closed = perceive(world).detect("top drawer handle").position - 0.15 * world.drawer_axis("top drawer")
 
     def affordance() -> np.ndarray:
         m = api.get_empty_affordance_map()
         m[tuple(grid.world_to_voxel(closed))] = 1
         return m
 
-    result = ClosedLoopController(world, np.random.default_rng(4))(
-        lambda: world.detect("top drawer handle"), affordance
+    result = ClosedLoopController(world, perceive(world), np.random.default_rng(4))(
+        lambda: perceive(world).detect("top drawer handle"), affordance
     )
     assert result.success, result.message
     assert world.drawer_opening("top") < 0.02
@@ -147,7 +148,7 @@ def test_close_a_drawer_by_pushing_its_handle(world: TabletopWorld) -> None:
 def test_a_grasped_block_is_carried_not_pushed_and_released_in_place(world: TabletopWorld) -> None:
     world.reset(np.random.default_rng(5), _layout(blue_block=(-0.1, 0.0)))
     api, grid = _api(world), world.grid
-    executor = ClosedLoopController(world, np.random.default_rng(5))
+    executor = ClosedLoopController(world, perceive(world), np.random.default_rng(5))
 
     def at(point: np.ndarray) -> np.ndarray:
         m = api.get_empty_affordance_map()
@@ -155,21 +156,21 @@ def test_a_grasped_block_is_carried_not_pushed_and_released_in_place(world: Tabl
         return m
 
     def block_centre() -> np.ndarray:
-        return at(world.detect("blue block").position)
+        return at(perceive(world).detect("blue block").position)
 
     def grasp_gripper() -> np.ndarray:  # open, except close around the block
         m = api.get_empty_gripper_map()
         m[:] = 0
-        return api.set_voxel_by_radius(m, grid.world_to_voxel(world.detect("blue block").position), 1, 1)
+        return api.set_voxel_by_radius(m, grid.world_to_voxel(perceive(world).detect("blue block").position), 1, 1)
 
     top_down = api.get_empty_rotation_map()
     top_down[:] = api.pointat2quat([0, 0, -1])
-    assert executor(lambda: world.detect("gripper"), block_centre, rotation_map=top_down,
+    assert executor(lambda: perceive(world).detect("gripper"), block_centre, rotation_map=top_down,
                     gripper_map=grasp_gripper).success
     assert world.get_gripper_state() >= 0.5
 
     goal = np.array([0.0, -0.15, 0.12])  # 15 cm left and up: the hand must carry it there
-    result = executor(lambda: world.detect("blue block"), lambda: at(goal))
+    result = executor(lambda: perceive(world).detect("blue block"), lambda: at(goal))
     assert result.success, result.message
     assert result.trace, "carried with the hand (end-effector mode), not pushed"
     assert np.linalg.norm(world.object_position("blue block") - goal) < 0.04
@@ -179,7 +180,7 @@ def test_a_grasped_block_is_carried_not_pushed_and_released_in_place(world: Tabl
         m[:] = 0
         return m
 
-    result = executor(lambda: world.detect("blue block"), block_centre, gripper_map=open_gripper)
+    result = executor(lambda: perceive(world).detect("blue block"), block_centre, gripper_map=open_gripper)
     assert result.success, result.message
     assert world.get_gripper_state() < 0.5
 
@@ -207,8 +208,8 @@ def test_moves_that_miss_their_targets_are_reported_not_dropped(world: TabletopW
         m[tuple(grid.world_to_voxel(goal))] = 1
         return m
 
-    result = ClosedLoopController(world, np.random.default_rng(1), ExecutorConfig(max_time_s=20))(
-        lambda: world.detect("blue block"), affordance
+    result = ClosedLoopController(world, perceive(world), np.random.default_rng(1), ExecutorConfig(max_time_s=20))(
+        lambda: perceive(world).detect("blue block"), affordance
     )
     assert calls and result.missed_moves == len(calls)  # five moves per push, every one counted
     assert result.worst_miss_m == pytest.approx(0.03)

@@ -13,7 +13,7 @@ from voxposer.envs import TabletopWorld
 from voxposer.envs.layout import SceneLayout
 from voxposer.lmp.backends.replay import ReplayBackend
 from voxposer.lmp.runtime import LMPRuntime
-from voxposer.lmp.scene import WorldScene
+from voxposer.pipeline import Embodiment, voxposer_runtime
 
 RECORDINGS = Path(__file__).parent / "recordings" / "tabletop.jsonl"
 MOVE_ABOVE_BLUE = "move to the top of the blue block while staying away from the green block"
@@ -26,9 +26,9 @@ def _run(world: TabletopWorld, instruction: str, seed: int, on_replan=None) -> R
 def _run_with_runtime(
     world: TabletopWorld, instruction: str, seed: int, on_replan=None
 ) -> tuple[RobotHandoff, LMPRuntime]:
-    executor = RobotHandoff(world, np.random.default_rng(seed), ExecutorConfig(max_time_s=30))
-    executor.on_replan = on_replan
-    runtime = LMPRuntime(WorldScene(world), ReplayBackend(RECORDINGS), executor)
+    runtime, executor = voxposer_runtime(
+        Embodiment.simulated(world), ReplayBackend(RECORDINGS), np.random.default_rng(seed),
+        executor_config=ExecutorConfig(max_time_s=30), on_replan=on_replan)
     runtime.run(instruction)
     return executor, runtime
 

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from tests.perceive import perceive
 
 from voxposer.envs import TOP_DOWN_QUAT, SceneLayout, TabletopWorld
 from voxposer.errors import InvalidActionError, SimulationUnstableError, UnreachablePoseError
@@ -45,7 +46,7 @@ def test_closed_gripper_pushes_a_block(world: TabletopWorld) -> None:
 
 def test_grasp_lift_hold_release(world: TabletopWorld) -> None:
     _one_block(world, xy=(-0.05, 0.1))
-    block = world.detect("blue block").position
+    block = perceive(world).detect("blue block").position
     world.move_to_pose(block + [0, 0, 0.1], TOP_DOWN_QUAT)
     world.move_to_pose(block, TOP_DOWN_QUAT)
     world.close_gripper()
@@ -64,7 +65,7 @@ def test_grasp_lift_hold_release(world: TabletopWorld) -> None:
 
 def test_drawer_is_closed_by_pushing(world: TabletopWorld) -> None:
     _one_block(world, xy=(0.1, -0.2), cabinet=True, drawer_openings={"middle": 0.15})
-    handle = world.detect("middle drawer handle").position
+    handle = perceive(world).detect("middle drawer handle").position
     # Gripper pointing along +y (toward the cabinet), fingertips against the handle bar.
     quat = Rotation.from_euler("x", -90, degrees=True).as_quat()
     world.close_gripper()

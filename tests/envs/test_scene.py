@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from voxposer.envs import COLORS, OBJECTS, SceneLayout, TabletopWorld, WorldConfig
-from voxposer.envs.registry import normalize_name
+from voxposer.envs.registry import body_of
 from voxposer.errors import ConfigError, LayoutError
 
 
@@ -36,14 +36,8 @@ def test_scene_has_the_papers_objects(world: TabletopWorld) -> None:
 def test_every_registry_object_maps_to_a_body_with_geoms(world: TabletopWorld) -> None:
     labels = set(world.registry.geom_labels.tolist())
     for k, obj in enumerate(OBJECTS):
-        assert world.model.body(obj.body).id > 0
+        assert world.model.body(body_of(obj)).id > 0
         assert k in labels, obj.name
-
-
-def test_names_are_lenient() -> None:
-    assert normalize_name("The Blue  Block") == "blue block"
-    assert normalize_name("topmost drawer") == "top drawer"
-    assert normalize_name("grey_line") == "gray line"
 
 
 def test_robot_faces_front_from_the_back(fresh: TabletopWorld) -> None:

@@ -2,7 +2,9 @@
 
 import numpy as np
 import pytest
+from tests.perceive import perceive
 
+from voxposer.catalog import label_of
 from voxposer.envs import COLORS, SceneLayout, TabletopWorld
 from voxposer.errors import UnknownObjectError
 
@@ -17,12 +19,12 @@ def all_blocks(world: TabletopWorld) -> TabletopWorld:
 def test_detect_centres_match_bodies(all_blocks: TabletopWorld) -> None:
     for name in all_blocks.object_names:
         if name.endswith(" block"):
-            found = all_blocks.detect(name)
+            found = perceive(all_blocks).detect(name)
             np.testing.assert_allclose(found.position, all_blocks.object_position(name), atol=0.01)
 
 
 def test_detected_object_reads_like_a_dict(all_blocks: TabletopWorld) -> None:
-    obj = all_blocks.detect("The Blue Block")
+    obj = perceive(all_blocks).detect("The Blue Block")
     assert obj["position"] is obj.position
     assert obj["occupancy"].shape == all_blocks.grid.shape and obj["occupancy"].any()
     assert obj["aabb"].shape == (2, 3) and obj["points"].shape[1] == 3
@@ -32,9 +34,9 @@ def test_detected_object_reads_like_a_dict(all_blocks: TabletopWorld) -> None:
 
 
 def test_parts_are_detected(all_blocks: TabletopWorld) -> None:
-    handle = all_blocks.detect("top drawer handle")
-    drawer = all_blocks.detect("top drawer")
-    cabinet = all_blocks.detect("cabinet")
+    handle = perceive(all_blocks).detect("top drawer handle")
+    drawer = perceive(all_blocks).detect("top drawer")
+    cabinet = perceive(all_blocks).detect("cabinet")
     assert len(handle.points) < len(drawer.points) < len(cabinet.points)
     np.testing.assert_allclose(handle.position, all_blocks.object_position("top drawer handle"),
                                atol=0.02)
@@ -42,8 +44,8 @@ def test_parts_are_detected(all_blocks: TabletopWorld) -> None:
 
 
 def test_views_agree_on_a_block(all_blocks: TabletopWorld) -> None:
-    cloud = all_blocks.observe().cloud
-    label = all_blocks.registry.label("blue block")
+    cloud = perceive(all_blocks).point_cloud()
+    label = label_of("blue block")
     centres = []
     for cam in range(4):
         pts = cloud.points[(cloud.labels == label) & (cloud.camera == cam)]
@@ -62,23 +64,24 @@ def test_observation_contents(all_blocks: TabletopWorld) -> None:
     assert len(obs.cameras) == 4
     for frame in obs.cameras:
         h, w = frame.depth.shape
-        assert frame.rgb.shape == (h, w, 3) and frame.segmentation.shape == (h, w, 2)
+        assert frame.rgb.shape == (h, w, 3) and frame.object_ids.shape == (h, w)
         assert frame.intrinsics.shape == (3, 3) and frame.extrinsics.shape == (4, 4)
         # The camera looks at the workspace centre along its +z axis.
         view = frame.extrinsics[:3, 2]
         to_target = np.array(all_blocks.config.cameras.target) - frame.extrinsics[:3, 3]
         assert np.dot(view, to_target / np.linalg.norm(to_target)) > 0.999
         assert np.isfinite(frame.depth).any()
-    assert all_blocks.grid.contains(obs.cloud.points).all()
-    assert obs.cloud.normals.shape == obs.cloud.points.shape
+    cloud = perceive(all_blocks).point_cloud()
+    assert all_blocks.grid.contains(cloud.points).all()
+    assert cloud.normals.shape == cloud.points.shape
 
 
 def test_unknown_and_absent_names_raise(all_blocks: TabletopWorld) -> None:
     with pytest.raises(UnknownObjectError, match="blue block"):
-        all_blocks.detect("unicorn")
+        perceive(all_blocks).detect("unicorn")
     absent = next(c for c in COLORS if f"{c} block" not in all_blocks.object_names)
     with pytest.raises(UnknownObjectError):
-        all_blocks.detect(f"{absent} block")
+        perceive(all_blocks).detect(f"{absent} block")
 
 
 @pytest.mark.parametrize("which", ["top", "middle", "bottom"])
@@ -86,6 +89,19 @@ def test_a_handles_normal_faces_out_of_the_cabinet(world: TabletopWorld, which: 
     # the cameras see mostly a handle's top; its normal must still point the way it opens
     world.reset(np.random.default_rng(8), SceneLayout(blocks=("blue",), extra_blocks=(0, 0),
                                                       drawer_openings={which: 0.12}))
-    normal = world.detect(f"{which} drawer handle").normal
-    assert normal @ world.sliding_axis(f"{which} drawer") > np.cos(np.radians(10))
+    normal = perceive(world).detect(f"{which} drawer handle").normal
+    assert normal @ world.drawer_axis(f"{which} drawer") > np.cos(np.radians(10))
     assert abs(normal[2]) < 1e-9
+
+
+@pytest.mark.parametrize("opening", [0.0, 0.12])
+def test_a_drawers_sliding_direction_comes_from_what_the_cameras_see(
+        world: TabletopWorld, opening: float) -> None:
+    # perception's direction (the front's outward normal) agrees with the simulator's joint
+    world.reset(np.random.default_rng(9), SceneLayout(blocks=("blue",), extra_blocks=(0, 0),
+                                                      drawer_openings={"middle": opening}))
+    truth = world.drawer_axis("middle drawer")
+    for part in ("middle drawer", "middle drawer handle"):
+        axis = perceive(world).sliding_axis(part)
+        assert axis is not None and axis @ truth > np.cos(np.radians(10)), (part, axis, truth)
+    assert perceive(world).sliding_axis("blue block") is None

@@ -4,8 +4,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception import backproject, camera_normals, fuse_views
-from voxposer.valuemaps.grid import VoxelGrid
 
 K = np.array([[100.0, 0.0, 31.5], [0.0, 100.0, 23.5], [0.0, 0.0, 1.0]])
 

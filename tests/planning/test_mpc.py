@@ -2,11 +2,11 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from voxposer.envs.synthetic import box_surface_points
 from voxposer.errors import ConfigError, PlanningError
 from voxposer.planning.dynamics import PushBatch, PushPrediction, translate_points
 from voxposer.planning.mpc import random_shooting
 from voxposer.planning.push_primitive import PushAction, PushConfig, push_waypoints
+from voxposer.planning.synthetic_scene import box_surface_points
 from voxposer.valuemaps import ValueMapAPI, VoxelGrid, compose_cost_map
 
 BLOCK = box_surface_points(np.array([0.475, 0.475, 0.0]), np.array([0.525, 0.525, 0.05]))

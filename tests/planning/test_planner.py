@@ -3,9 +3,9 @@ import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from voxposer.envs.synthetic import box_surface_points, make_synthetic_scene
 from voxposer.errors import ConfigError, StartBlockedError, TargetUnreachableError
 from voxposer.planning import PathPlanner, PlannerConfig, astar
+from voxposer.planning.synthetic_scene import box_surface_points, make_synthetic_scene
 from voxposer.valuemaps import TOP_DOWN_QUAT, CostMapConfig, ValueMapAPI, VoxelGrid, pointat2quat
 
 

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from voxposer.errors import GridError, OutOfWorkspaceError, VoxPoserError
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.geometry.voxel_grid import VoxelGrid
 
 
 @pytest.fixture

@@ -12,7 +12,7 @@ Public API:
 * :data:`METHODS` — "voxposer" and "llm_primitives" (the LLM + Primitives baseline, App. A.4).
 * Gymnasium: importing this package registers every task as ``voxposer/<TaskClass>-v0``
   (:mod:`voxposer.bench.gym_ids`, :mod:`voxposer.bench.gym_tasks`), e.g. ``gym.make("voxposer/PushToPos-v0")``.
-* CLI: ``voxposer bench`` (:mod:`voxposer.bench.bench_cmd`).
+* CLI: ``voxposer bench`` (:mod:`voxposer.cli.bench`).
 """
 
 from voxposer.bench.config import Tolerances

@@ -69,18 +69,19 @@ class Method:
         rng, disturb_rng = setup.rng.spawn(2)
         disturber = None if make_disturber is None else make_disturber(
             disturb_rng, exec_config.reach_tolerance_m)
-        if self.name == "voxposer":
-            from voxposer.control.robot_handoff import RobotHandoff
-            from voxposer.lmp.runtime import LMPRuntime
-            from voxposer.lmp.scene import WorldScene
+        from voxposer.pipeline import Embodiment, voxposer_runtime
 
-            executor = RobotHandoff(world, rng, exec_config, on_replan=None if disturber is None
-                                     else disturber.on_replan)
-            LMPRuntime(WorldScene(world), backend, executor, config).run(setup.instruction)
+        body = Embodiment.simulated(world)
+        if self.name == "voxposer":
+            runtime, _ = voxposer_runtime(
+                body, backend, rng, executor_config=exec_config, lmp_config=config,
+                on_replan=None if disturber is None else disturber.on_replan)
+            runtime.run(setup.instruction)
         else:
             from voxposer.bench.primitives import PrimitivesRuntime
 
-            runtime = PrimitivesRuntime(world, backend, config)
+            runtime = PrimitivesRuntime(body, backend, config,
+                                        max_speed_scale=world.config.controller.max_speed_scale)
             if disturber is None:
                 runtime.run(setup.instruction)
             else:

@@ -21,7 +21,9 @@ from voxposer.lmp.handoff import RecordingHandler
 from voxposer.lmp.registry import LMPConfig, LMPSpec
 from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.sandbox import suspend_time_limit
-from voxposer.lmp.scene import WorldScene
+from voxposer.lmp.scene import RobotScene
+from voxposer.perception.perceiver import Perceiver
+from voxposer.robot import Robot
 
 #: The baseline's LMP: a composer-like program acting through primitive calls.
 PRIMITIVES_SPEC: Final = LMPSpec("llm_primitives", "composer", with_objects=True)
@@ -36,19 +38,28 @@ class PrimitiveObject(NamedTuple):
 
 
 class Primitives:
-    """The primitives, bound to a world. Each motion waits until the robot arrives."""
+    """The primitives, bound to a robot and its perceiver. Each motion waits until the robot
+    arrives.
 
-    def __init__(self, world: Any) -> None:
-        self.world = world
+    Args:
+        robot: the arm (:class:`voxposer.robot.Robot`).
+        perceiver: what ``detect`` asks (:class:`voxposer.perception.Perceiver`).
+        max_speed_scale: the largest ``set_vel`` scale the robot accepts.
+    """
+
+    def __init__(self, robot: Robot, perceiver: Perceiver, max_speed_scale: float = 5.0) -> None:
+        self.robot = robot
+        self.perceiver = perceiver
+        self.max_speed_scale = float(max_speed_scale)
         self.speed = 1.0
         self.calls = 0
 
     def detect(self, name: str) -> PrimitiveObject:
         """The object called ``name`` as currently observed (metres)."""
-        from voxposer.lmp.objects import match_name
+        from voxposer.perception.names import match_name
 
-        canonical = match_name(str(name), self.world.object_names)
-        det = self.world.detect(canonical)
+        canonical = match_name(str(name), self.perceiver.object_names)
+        det = self.perceiver.detect(canonical)
         return PrimitiveObject(canonical, np.asarray(det["position"], float).copy(),
                                np.asarray(det["aabb"], float).copy())
 
@@ -64,25 +75,25 @@ class Primitives:
         q = np.asarray(quat, dtype=float).reshape(-1)
         if q.shape != (4,) or not np.all(np.isfinite(q)) or np.linalg.norm(q) < 1e-6:
             raise InvalidActionError(f"rotate_by_quat needs a quaternion (x, y, z, w); got {quat!r}")
-        pos, current = self.world.get_ee_pose()
+        pos, current = self.robot.get_ee_pose()
         target = (Rotation.from_quat(q / np.linalg.norm(q)) * Rotation.from_quat(current)).as_quat()
         self._move(pos, target)
 
     def set_vel(self, scale: float) -> None:
         """Speed scale of the following motions (1 = the controller's default speed)."""
         s = float(scale)
-        limit = float(self.world.config.controller.max_speed_scale)
+        limit = self.max_speed_scale
         if not 0.01 <= s <= limit:
             raise InvalidActionError(f"set_vel scale must be in [0.01, {limit}]; got {scale!r}")
         self.speed = s
 
     def open_gripper(self) -> None:
         """Open the fingers."""
-        self._act(self.world.open_gripper)
+        self._act(self.robot.open_gripper)
 
     def close_gripper(self) -> None:
         """Close the fingers."""
-        self._act(self.world.close_gripper)
+        self._act(self.robot.close_gripper)
 
     def _act(self, fn: Any) -> Any:
         self.calls += 1
@@ -92,7 +103,7 @@ class Primitives:
     def _move(self, position: NDArray[np.float64], quat: Any) -> None:
         """Move the end effector; a move that ends away from its target raises
         :class:`MoveMissedError` (the program sees it, and so does the episode record)."""
-        result = self._act(lambda: self.world.move_to_pose(position, quat,
+        result = self._act(lambda: self.robot.move_to_pose(position, quat,
                                                            speed_scale=self.speed))
         if not result.reached:
             raise MoveMissedError(np.round(position, 3).tolist(), result.position_error,
@@ -109,17 +120,18 @@ class PrimitivesRuntime(LMPRuntime):
     """The LMP runtime with one extra LMP, ``llm_primitives``, whose code calls primitives.
 
     Args:
-        world: the :class:`voxposer.envs.TabletopWorld`.
+        body: the robot and its perceiver (:class:`voxposer.pipeline.Embodiment`).
         backend: the language model (the same one VoxPoser uses).
         config: retries, decoding and sandbox limits; ``config.held_out_task`` removes that
             task's few-shot examples from the ``llm_primitives`` prompt too (unseen
             instructions; the runtime's ``prompt`` loads every prompt with it).
     """
 
-    def __init__(self, world: Any, backend: LLMBackend, config: LMPConfig | None = None,
-                 **kwargs: Any) -> None:
-        super().__init__(WorldScene(world), backend, RecordingHandler(), config, **kwargs)
-        self.primitives = Primitives(world)
+    def __init__(self, body: Any, backend: LLMBackend, config: LMPConfig | None = None, *,
+                 max_speed_scale: float = 5.0, **kwargs: Any) -> None:
+        super().__init__(RobotScene(body.perceiver, body.robot), backend, RecordingHandler(),
+                         config, **kwargs)
+        self.primitives = Primitives(body.robot, body.perceiver, max_speed_scale)
         if self.config.held_out_task is not None:  # the fold of its own prompt fails now
             self.prompt(PRIMITIVES_SPEC.name)
 

@@ -24,7 +24,7 @@ from voxposer.bench.config import Tolerances
 from voxposer.bench.programs import Programs
 from voxposer.bench.trace import Trace, snapshot
 from voxposer.envs.layout import SceneLayout
-from voxposer.errors import LayoutError, VoxPoserError
+from voxposer.errors import ConfigError, LayoutError, VoxPoserError
 
 Category = Literal["Object Interactions", "Spatial Composition"]
 _SLOT = re.compile(r"\[(\w+)\]")
@@ -64,8 +64,35 @@ class EpisodeSetup:
     rng: np.random.Generator = field(repr=False)
 
 
+#: every concrete task class, by name, in the order their modules were imported.
+_REGISTERED: dict[str, type[BenchTask]] = {}
+
+
+def registered_tasks() -> dict[str, type[BenchTask]]:
+    """Every task class that declared itself (a concrete subclass of :class:`BenchTask` with a
+    ``name``), by name; :mod:`voxposer.bench.tasks` imports every task module first."""
+    return dict(_REGISTERED)
+
+
 class BenchTask(ABC):
-    """Base of the 13 tasks; subclasses are small declarations (see ``tasks/``)."""
+    """Base of the 13 tasks; subclasses are small declarations (see ``tasks/``).
+
+    A subclass registers itself when its module is imported: adding a task is adding one module
+    to ``voxposer/bench/tasks/`` (its Gymnasium id, its parametrised test and ``--tasks`` follow).
+    """
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        name = cls.__dict__.get("name")
+        # (ABCMeta computes __abstractmethods__ only after this hook: look at the methods)
+        abstract = any(getattr(getattr(cls, m, None), "__isabstractmethod__", False)
+                       for m in ("layout", "check", "reference"))
+        if name is None or abstract:
+            return
+        if name in _REGISTERED and _REGISTERED[name].__qualname__ != cls.__qualname__:
+            raise ConfigError(f"two benchmark tasks are called {name!r}: "
+                              f"{_REGISTERED[name].__qualname__} and {cls.__qualname__}")
+        _REGISTERED[name] = cls
 
     name: ClassVar[str]
     category: ClassVar[Category]

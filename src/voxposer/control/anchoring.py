@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.geometry.voxel_grid import VoxelGrid
 
 
 def _target(grid: VoxelGrid, affordance: NDArray[Any]) -> NDArray[np.float64] | None:

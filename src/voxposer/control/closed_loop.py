@@ -6,7 +6,7 @@ again; no new LLM call). The loop: observe → recompose maps → plan → follo
 one replanning period → repeat, until the entity reaches the affordance target, progress stalls
 or the time limit passes — and the result says which.
 
-When the entity is the end effector the trajectory is followed through the world's pose
+When the entity is the end effector the trajectory is followed through the robot's pose
 controller with the velocity scale, orientation and gripper command read from the maps. When it
 is an object or a part (a drawer, a handle), the planner plans the object's path and
 random-shooting MPC over a planar pushing model chooses each push
@@ -25,7 +25,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,34 +34,14 @@ from voxposer.control.anchoring import SelfRelativeAnchor
 from voxposer.control.config import ExecutorConfig
 from voxposer.control.execution_result import ExecutionResult, MapSource, StopReason, evaluate
 from voxposer.control.pushing_loop import run_object
-from voxposer.control.scene_occupancy import is_end_effector, scene_occupancy
+from voxposer.control.tracking import follow
 from voxposer.errors import PlanningError
+from voxposer.perception.names import is_end_effector
+from voxposer.perception.perceiver import Perceiver
 from voxposer.planning.planner import PathPlanner, Plan
+from voxposer.robot import Robot
 
 log = logging.getLogger(__name__)
-
-class World(Protocol):
-    """What execution needs of a world (:class:`voxposer.envs.TabletopWorld` provides it)."""
-
-    grid: Any
-    config: Any
-
-    def observe(self, *, rgb: bool = True) -> Any: ...
-    def detect(self, name: str) -> Any: ...
-    def step(
-        self, position: Any, quat_xyzw: Any, gripper: float | None = None, speed_scale: float = 1.0
-    ) -> Any: ...
-    def move_to_pose(
-        self,
-        position: Any,
-        quat_xyzw: Any = None,
-        speed_scale: float = 1.0,
-        gripper: float | None = None,
-    ) -> Any: ...
-    def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
-    def get_gripper_state(self) -> float: ...
-    def gripper_opening(self) -> float: ...
-
 
 def _raise_to(grid: Any, affordance: NDArray[Any], min_z: float) -> NDArray[Any]:
     """``affordance`` with every target voxel below height ``min_z`` [m] moved up to it."""
@@ -76,16 +56,27 @@ def _raise_to(grid: Any, affordance: NDArray[Any], min_z: float) -> NDArray[Any]
 
 
 class ClosedLoopController:
-    """Runs ``execute`` against a world. One instance per world; reusable across calls."""
+    """Runs ``execute`` with a robot and a perceiver; reusable across calls.
+
+    Args:
+        robot: the arm (:class:`voxposer.robot.Robot`; the MuJoCo world is one).
+        perceiver: observations, detection and obstacles
+            (:class:`voxposer.perception.perceiver.Perceiver`).
+        rng: randomness of the pushing MPC.
+        config: closed-loop parameters.
+    """
 
     def __init__(
-        self, world: World, rng: np.random.Generator, config: ExecutorConfig | None = None
+        self, robot: Robot, perceiver: Perceiver, rng: np.random.Generator,
+        config: ExecutorConfig | None = None,
     ) -> None:
-        self.world = world
+        self.robot = robot
+        self.perceiver = perceiver
+        self.grid = perceiver.grid
         self.rng = rng
         self.config = config or ExecutorConfig()
-        self.ee_planner = PathPlanner(world.grid, self.config.ee_planner)
-        self.object_planner = PathPlanner(world.grid, self.config.object_planner)
+        self.ee_planner = PathPlanner(self.grid, self.config.ee_planner)
+        self.object_planner = PathPlanner(self.grid, self.config.object_planner)
         self.history: list[ExecutionResult] = []
         #: called after every replan with (result so far, plan); for live progress displays
         self.on_replan: Callable[[ExecutionResult, Plan], None] | None = None
@@ -104,7 +95,7 @@ class ClosedLoopController:
         Args:
             movable: the entity — a detected object, or a callable returning one
                 (``detect("gripper")`` for the end effector).
-            affordance_map … gripper_map: arrays or callables returning arrays on the world's
+            affordance_map … gripper_map: arrays or callables returning arrays on the perceiver's
                 grid; None = not specified. The affordance map is required.
         """
         if affordance_map is None:
@@ -115,16 +106,15 @@ class ClosedLoopController:
 
         def position() -> NDArray[np.float64]:  # the entity's, for anchoring
             if hand:
-                return self.world.get_ee_pose()[0]
+                return self.robot.get_ee_pose()[0]
             return np.asarray(evaluate(movable)["position"], dtype=np.float64)
 
-        axis_of = getattr(self.world, "sliding_axis", None)
-        slides = not hand and callable(axis_of) and axis_of(name) is not None
+        slides = not hand and self.perceiver.sliding_axis(name) is not None
         maps = {
             # a sliding part stops at its end of travel, so a target moving with it is kept
             # ("push the handle 20 cm in" = until the drawer is shut)
             "affordance_map": affordance_map if slides else
-            SelfRelativeAnchor(affordance_map, position, self.world.grid),
+            SelfRelativeAnchor(affordance_map, position, self.grid),
             "avoidance_map": avoidance_map,
             "rotation_map": rotation_map,
             "velocity_map": velocity_map,
@@ -143,11 +133,11 @@ class ClosedLoopController:
         """Object centre − end effector [m], shape (3,), when ``entity`` is in the closed hand
         (closed on something: fingers at least ``carry_min_opening_m`` apart — after a push the
         hand is closed on nothing next to the block it pushed)."""
-        if self.world.get_gripper_state() < 0.5:
+        if self.robot.get_gripper_state() < 0.5:
             return None
-        if float(self.world.gripper_opening()) < self.config.carry_min_opening_m:
+        if float(self.robot.gripper_opening()) < self.config.carry_min_opening_m:
             return None
-        offset = np.asarray(entity["position"], dtype=np.float64) - self.world.get_ee_pose()[0]
+        offset = np.asarray(entity["position"], dtype=np.float64) - self.robot.get_ee_pose()[0]
         return offset if float(np.linalg.norm(offset)) <= self.config.carry_radius_m else None
 
     # ----------------------------------------------------------- end effector
@@ -163,29 +153,29 @@ class ClosedLoopController:
         if carried is not None:
             held = evaluate(carried)
             rest_z = float(held["position"][2] - np.asarray(held["aabb"])[0][2])
-        cfg, world = self.config, self.world
-        control_dt = float(world.config.controller.control_dt)
+        cfg, robot = self.config, self.robot
+        control_dt = float(robot.control_period)
         steps_per_replan = max(1, round(1.0 / cfg.replan_hz / control_dt))
         result = self.start(name)
         best, since_best = float("inf"), 0
         while True:
             t0 = time.perf_counter()
-            obs = world.observe(rgb=False)
+            self.perceiver.point_cloud()  # observe and fuse (timed as "observe")
             t1 = time.perf_counter()
             values = {k: evaluate(v) for k, v in maps.items()}
-            hand_pos, ee_quat = world.get_ee_pose()
+            hand_pos, ee_quat = robot.get_ee_pose()
             if carried is not None:
                 measured = self._carry_offset(evaluate(carried))
-                if measured is None and world.get_gripper_state() < 0.5:
+                if measured is None and robot.get_gripper_state() < 0.5:
                     return self.finish(result, "reached", f"{name} released: the gripper map "
                                        "opened the hand")
                 if measured is None:
                     return self.finish(result, "stalled", f"{name} slipped out of the hand")
                 shift = measured
-                values["affordance_map"] = _raise_to(world.grid, values["affordance_map"], rest_z)
+                values["affordance_map"] = _raise_to(self.grid, values["affordance_map"], rest_z)
             t2 = time.perf_counter()
             ee_pos = hand_pos + shift
-            holding = world.get_gripper_state() >= 0.5
+            holding = robot.get_gripper_state() >= 0.5
             try:
                 plan = self.ee_planner.plan(
                     values["affordance_map"],
@@ -194,9 +184,9 @@ class ClosedLoopController:
                     rotation_map=values["rotation_map"],
                     velocity_map=values["velocity_map"],
                     gripper_map=values["gripper_map"],
-                    occupancy=scene_occupancy(obs, world.grid, entity=name, holding=holding),
+                    occupancy=self.perceiver.scene_occupancy(name, holding=holding),
                     current_quat=ee_quat,
-                    current_gripper=world.get_gripper_state(),
+                    current_gripper=robot.get_gripper_state(),
                 )
             except PlanningError as err:
                 return self.finish(result, "planning_failed", str(err))
@@ -224,42 +214,17 @@ class ClosedLoopController:
                     f"time limit {cfg.max_time_s:.0f} s reached "
                     f"{dist * 100:.1f} cm from the target",
                 )
-            self._follow(plan, steps_per_replan, result, shift)
-
-    def _follow(
-        self, plan: Plan, steps: int, result: ExecutionResult, shift: NDArray[np.float64]
-    ) -> None:
-        """Steer the controller along ``plan`` (for a point ``shift`` metres from the hand) for
-        ``steps`` control periods."""
-        traj = plan.trajectory
-        pos = traj.positions - shift
-        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pos, axis=0), axis=1))])
-        for _ in range(steps):
-            here = self.world.get_ee_pose()[0]
-            near = int(np.argmin(np.linalg.norm(pos - here, axis=1)))
-            # steer further ahead when faster than default, or the arm's tracking lag caps speed
-            lookahead = self.config.lookahead_m * max(1.0, float(traj.velocity_scales[near]))
-            ahead = min(int(np.searchsorted(arc, arc[near] + lookahead)), len(pos) - 1)
-            wp = traj[ahead]
-            res = self.world.step(
-                wp.position - shift,
-                wp.quaternion,
-                gripper=float(traj.gripper[near]),
-                speed_scale=wp.velocity_scale,
-            )
-            result.trace.append(np.asarray(res.ee_position, dtype=np.float64))
-            result.trace_time.append(float(res.time))
-            if getattr(res, "at_goal", False) and ahead == len(pos) - 1:
-                break
+            follow(self.robot, plan.trajectory, steps_per_replan, result, shift,
+                   self.config.lookahead_m)
 
     def _finish_gripper(self, plan: Plan) -> None:
         """Apply the gripper command of the target voxel once there (e.g. close to grasp)."""
         want = float(plan.trajectory.gripper[-1])
-        if (want >= 0.5) != (self.world.get_gripper_state() >= 0.5):
+        if (want >= 0.5) != (self.robot.get_gripper_state() >= 0.5):
             if want >= 0.5:
-                self.world.close_gripper()  # type: ignore[attr-defined]
+                self.robot.close_gripper()
             else:
-                self.world.open_gripper()  # type: ignore[attr-defined]
+                self.robot.open_gripper()
 
     # ----------------------------------------------------------------- objects
     def _run_object(self, movable: Any, name: str, maps: dict[str, MapSource]) -> ExecutionResult:
@@ -267,7 +232,7 @@ class ClosedLoopController:
 
     # ------------------------------------------------------------------ common
     def _sim_time(self) -> float:
-        return float(getattr(getattr(self.world, "data", None), "time", 0.0))
+        return float(self.robot.time)
 
     def start(self, entity: str) -> ExecutionResult:
         """A fresh result for one ``execute`` call, its clocks started."""
@@ -318,4 +283,4 @@ class ClosedLoopController:
         return result
 
 
-__all__ = ["ClosedLoopController", "World"]
+__all__ = ["ClosedLoopController"]

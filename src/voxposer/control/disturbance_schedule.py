@@ -53,8 +53,8 @@ from typing import Any, Final, Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from voxposer.control.scene_occupancy import is_end_effector
 from voxposer.errors import ConfigError, VoxPoserError
+from voxposer.perception.names import is_end_effector
 
 log = logging.getLogger(__name__)
 

@@ -19,11 +19,12 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from voxposer.control.execution_result import ExecutionResult, MapSource, StopReason, evaluate
-from voxposer.control.scene_occupancy import scene_occupancy
 from voxposer.errors import PlanningError, UnreachablePoseError
+from voxposer.geometry.frames import TOP_DOWN_QUAT, pointat2quat
+from voxposer.perception.perceiver import Perceiver
 from voxposer.planning.mpc import random_shooting
 from voxposer.planning.push_primitive import PushAction, push_waypoints
-from voxposer.valuemaps.maps import TOP_DOWN_QUAT, pointat2quat
+from voxposer.robot import MoveResult, Robot
 
 log = logging.getLogger(__name__)
 
@@ -37,7 +38,8 @@ class LoopHost(Protocol):
     """What the pushing loop uses of the closed-loop controller that runs it."""
 
     config: Any
-    world: Any
+    robot: Robot
+    perceiver: Perceiver
     object_planner: Any
     rng: np.random.Generator
 
@@ -53,15 +55,14 @@ def run_object(
     loop: LoopHost, movable: Any, name: str, maps: dict[str, MapSource]
 ) -> ExecutionResult:
     """Push ``movable`` (re-detected every step) to the affordance target."""
-    cfg, world = loop.config, loop.world
+    cfg, robot, perceiver = loop.config, loop.robot, loop.perceiver
     result = loop.start(name)
-    axis_of = getattr(world, "sliding_axis", None)
-    axis = axis_of(name) if callable(axis_of) else None
+    axis = perceiver.sliding_axis(name)
     previous: NDArray[np.float64] | None = None
     stuck = 0
     for _ in range(cfg.max_pushes):
         t0 = time.perf_counter()
-        obs = world.observe(rgb=False)
+        perceiver.point_cloud()  # observe and fuse (timed as "observe")
         entity = evaluate(movable)
         t1 = time.perf_counter()
         values = {k: evaluate(v) for k, v in maps.items()}
@@ -72,9 +73,7 @@ def run_object(
                 values["affordance_map"],
                 centre,
                 avoidance_map=values["avoidance_map"],
-                occupancy=scene_occupancy(
-                    obs, world.grid, entity=name, holding=False, ignore_table=True
-                ),
+                occupancy=perceiver.scene_occupancy(name, holding=False, ignore_table=True),
                 entity_occupancy=entity["occupancy"],
             )
         except PlanningError as err:
@@ -111,7 +110,7 @@ def run_object(
         previous = centre
         try:
             top = float(np.asarray(entity["points"])[:, 2].max())
-            _count_misses(result, push(world, action, sideways=axis is not None, object_top=top))
+            _count_misses(result, push(robot, action, sideways=axis is not None, object_top=top))
         except UnreachablePoseError as err:
             # the arm did not move: not a push that failed to make progress (max_pushes caps it)
             log.info("push unreachable (%s); sampling another", err)
@@ -140,7 +139,7 @@ def _stuck_stop(stuck: int, sliding: bool, name: str, dist: float
     return None
 
 
-def _count_misses(result: ExecutionResult, moves: list[Any]) -> None:
+def _count_misses(result: ExecutionResult, moves: list[MoveResult]) -> None:
     """Add the push's moves that ended away from their targets to ``result``."""
     missed = [float(m.position_error) for m in moves if not m.reached]
     result.missed_moves += len(missed)
@@ -173,8 +172,8 @@ def top_down_quat(hand_axis: NDArray[np.float64], azimuth: float = 0.0) -> NDArr
 TOP_CLEARANCE_M = 0.033
 
 
-def push(world: Any, action: PushAction, sideways: bool, object_top: float | None = None
-         ) -> list[Any]:
+def push(robot: Robot, action: PushAction, sideways: bool, object_top: float | None = None
+         ) -> list[MoveResult]:
     """The pushing primitive: above → behind the contact → through → back → up.
 
     Objects are pushed with the hand pointing down, its long (finger) axis along
@@ -184,14 +183,13 @@ def push(world: Any, action: PushAction, sideways: bool, object_top: float | Non
     the push, so the forearm stays clear of the cabinet. The gripper is closed first.
 
     Returns:
-        the world's result of each of the five moves (``reached``, ``position_error`` [m]).
+        the robot's result of each of the five moves (``reached``, ``position_error`` [m]).
     """
-    base = np.asarray(getattr(getattr(world, "config", None), "robot_base", (0.0, 0.0, 0.0)))
-    reach = action.contact[:2] - base[:2]
+    reach = action.contact[:2] - robot.base_position[:2]
     azimuth = float(np.arctan2(reach[1], reach[0]))
     quat = pointat2quat(action.direction) if sideways else top_down_quat(action.hand_axis, azimuth)
-    world.close_gripper()
+    robot.close_gripper()
     lift = {} if sideways or object_top is None else {
         "lift_height_m": max(0.03, object_top + TOP_CLEARANCE_M - float(action.contact[2]))}
-    return [world.move_to_pose(point, quat, speed_scale=0.5 if k == 2 else 1.0)
+    return [robot.move_to_pose(point, quat, speed_scale=0.5 if k == 2 else 1.0)
             for k, point in enumerate(push_waypoints(action, **lift))]

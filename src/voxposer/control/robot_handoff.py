@@ -3,7 +3,8 @@
 Composer code calls ``execute(movable, affordance_map=…, …)``; the LMP runtime turns the
 arguments into re-evaluable callables (:class:`voxposer.lmp.handoff.ExecutionRequest`) and hands
 them to an executor. :class:`RobotHandoff` runs each request with the
-:class:`~voxposer.control.closed_loop.ClosedLoopController` on a world, keeps every result, writes an
+:class:`~voxposer.control.closed_loop.ClosedLoopController` on a robot and a perceiver, keeps
+every result, writes an
 HTML picture of the composed maps and the planned path per sub-task, and raises
 :class:`~voxposer.errors.ExecutionFailedError` when a sub-task does not reach its target (never
 a silent failure).
@@ -23,6 +24,8 @@ from voxposer.control.closed_loop import ClosedLoopController
 from voxposer.control.config import ExecutorConfig
 from voxposer.control.execution_result import ExecutionResult
 from voxposer.errors import ExecutionFailedError
+from voxposer.perception.perceiver import Perceiver
+from voxposer.robot import Robot
 
 log = logging.getLogger(__name__)
 
@@ -38,10 +41,11 @@ class SubtaskRecord:
 
 @dataclass
 class RobotHandoff:
-    """Implements the LMP runtime's ``ExecuteHandler`` protocol on a simulated world.
+    """Implements the LMP runtime's ``ExecuteHandler`` protocol on a robot.
 
     Attributes:
-        world: the world (:class:`voxposer.envs.TabletopWorld`).
+        robot: the arm (:class:`voxposer.robot.Robot`, e.g. :class:`voxposer.envs.TabletopWorld`).
+        perceiver: what detects the entity at every replan (:class:`voxposer.perception.Perceiver`).
         rng: randomness for the pushing MPC.
         config: closed-loop parameters.
         picture_dir: where to write ``subtask_<k>.html`` pictures (None = none).
@@ -49,7 +53,8 @@ class RobotHandoff:
         records: every sub-task executed, in order.
     """
 
-    world: Any
+    robot: Robot
+    perceiver: Perceiver
     rng: np.random.Generator
     config: ExecutorConfig = field(default_factory=ExecutorConfig)
     picture_dir: Path | None = None
@@ -58,7 +63,7 @@ class RobotHandoff:
     records: list[SubtaskRecord] = field(default_factory=list)
 
     def __post_init__(self) -> None:
-        self._loop = ClosedLoopController(self.world, self.rng, self.config)
+        self._loop = ClosedLoopController(self.robot, self.perceiver, self.rng, self.config)
 
     def execute(self, request: Any) -> ExecutionResult:
         """Run one ``execute`` request in closed loop; raise if it does not reach its target."""
@@ -68,7 +73,7 @@ class RobotHandoff:
         name = str(request.movable()["name"])
 
         def movable() -> Any:  # the entity as currently observed, in world coordinates
-            return self.world.detect(name)
+            return self.perceiver.detect(name)
 
         result = self._loop(movable, **request.maps)
         record = SubtaskRecord(request.subtask, result)
@@ -80,14 +85,14 @@ class RobotHandoff:
 
     def reset_to_default_pose(self) -> None:
         """Move the robot back to its rest pose."""
-        self.world.reset_to_default_pose()
+        self.robot.reset_to_default_pose()
 
     def _picture(self, index: int, subtask: str, result: ExecutionResult) -> Path | None:
         if self.picture_dir is None or result.first_plan is None:
             return None
         from voxposer.planning.picture import plan_figure, write_plan_html
 
-        points = self.world.observe().cloud.points
+        points = self.perceiver.point_cloud().points
         executed = {"executed (end effector)": np.asarray(result.trace)} if result.trace else {}
         if len(result.entity_path) > 1 and not executed:
             executed = {f"executed ({result.entity})": result.entity_path}

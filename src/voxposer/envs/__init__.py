@@ -8,15 +8,16 @@ Public API
 ----------
 ``TabletopWorld(config: WorldConfig | None = None)``
     ``reset(rng: np.random.Generator, layout: SceneLayout | None = None) -> Placement``
-    ``observe(width=None, height=None) -> Observation`` (4 RGB-D views + fused labelled cloud)
-    ``detect(name: str) -> DetectedObject`` (``obj["position"]``, ``["aabb"]``, ``["occupancy"]``,
-    ``["normal"]``, ``["points"]``; raises ``UnknownObjectError`` / ``ObjectNotVisibleError``)
+    ``observe(width=None, height=None, rgb=True) -> Observation`` (4 RGB-D views with a
+    ground-truth segmentation channel, robot state); objects are found in them by perception
+    (``SegmentationPerceiver(world, world.grid).detect(name)``)
     ``step(position, quat_xyzw, gripper=None, speed_scale=1.0) -> StepResult`` (one waypoint)
     ``move_to_pose(position, quat_xyzw=None, speed_scale=1.0, gripper=None) -> MoveResult``
     (raises ``UnreachablePoseError`` with the closest reachable error, ``InvalidActionError``)
     ``open_gripper()``, ``close_gripper()``, ``reset_to_default_pose(speed_scale=1.0)``
     ``get_ee_pose() -> (position (3,), quat_xyzw (4,))``, ``get_gripper_state() -> float``
-    (1 closed, 0 open), ``gripper_opening() -> float`` [m]
+    (1 closed, 0 open), ``gripper_opening() -> float`` [m], ``joint_positions()``,
+    ``control_period``, ``time``, ``base_position``: the :class:`voxposer.robot.Robot` protocol
     ``object_names``, ``camera_names``, ``grid`` (the workspace ``VoxelGrid``), ``config``
     ``render(camera, width=None, height=None) -> (H, W, 3) uint8``
     ``object_position(name)``, ``object_yaw(name)``, ``drawer_opening(drawer)`` (ground truth)
@@ -28,8 +29,8 @@ Public API
 openings, hand-placed poses. ``Placement``: what a reset chose.
 ``TabletopEnv``: Gymnasium wrapper (action: position 3, quaternion xyzw 4, gripper 1).
 ``render_views(seed, out, ...)``: the four views of a seeded scene tiled into one PNG
-(CLI: :mod:`voxposer.envs.render_cmd` with ``add_parser(subparsers)`` and ``run(args)``).
-``OBJECTS``, ``normalize_name``: the registry of language names ↔ scene objects.
+(CLI: :mod:`voxposer.cli.render` with ``add_parser(subparsers)`` and ``run(args)``).
+``OBJECTS``: the catalog of nameable objects (:mod:`voxposer.catalog`).
 
 Rendering is offscreen through EGL unless ``MUJOCO_GL`` says otherwise.
 """
@@ -38,10 +39,9 @@ import os
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-from voxposer.envs.cameras import CameraFrame
+from voxposer.catalog import DRAWERS, OBJECTS, SceneObject
 from voxposer.envs.config import (
     COLORS,
-    DRAWERS,
     CameraConfig,
     ControllerConfig,
     WorldConfig,
@@ -49,11 +49,8 @@ from voxposer.envs.config import (
 from voxposer.envs.disturbances import Disturbance
 from voxposer.envs.gym_env import TabletopEnv
 from voxposer.envs.layout import Placement, SceneLayout
-from voxposer.envs.observation import Observation
 from voxposer.envs.picture import render_views
-from voxposer.envs.registry import OBJECTS, SceneObject, normalize_name
 from voxposer.envs.world import TOP_DOWN_QUAT, MoveResult, StepResult, TabletopWorld
-from voxposer.perception.detect import DetectedObject
 
 __all__ = [
     "COLORS",
@@ -61,12 +58,9 @@ __all__ = [
     "OBJECTS",
     "TOP_DOWN_QUAT",
     "CameraConfig",
-    "CameraFrame",
     "ControllerConfig",
-    "DetectedObject",
     "Disturbance",
     "MoveResult",
-    "Observation",
     "Placement",
     "SceneLayout",
     "SceneObject",
@@ -74,6 +68,5 @@ __all__ = [
     "TabletopEnv",
     "TabletopWorld",
     "WorldConfig",
-    "normalize_name",
     "render_views",
 ]

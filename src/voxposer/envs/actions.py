@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from voxposer.errors import InvalidActionError
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.geometry.voxel_grid import VoxelGrid
 
 
 @dataclass(frozen=True)

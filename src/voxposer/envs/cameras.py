@@ -3,10 +3,8 @@
 Each camera is rendered in two passes sharing one scene update: a colour pass (RGB) and a
 segmentation pass whose colours encode geom ids and whose depth buffer gives metric depth.
 
-Camera conventions of :class:`CameraFrame` (OpenCV): x right, y down, z forward (the viewing
-direction). ``intrinsics`` K maps camera-frame points to pixels ``(u, v) = (fx x/z + cx,
-fy y/z + cy)`` with integer pixel centres (column u, row v, row 0 at the top of the image), and
-``extrinsics`` is the 4x4 camera-to-world transform.
+Frames are :class:`voxposer.perception.observation.CameraFrame` (OpenCV camera axes); the
+segmentation pass also fills its ``object_ids`` channel with ground-truth catalog labels.
 """
 
 from __future__ import annotations
@@ -17,14 +15,14 @@ import os
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 import math
-from dataclasses import dataclass
 from typing import Any
 
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from voxposer.envs.registry import NO_OBJECT
+from voxposer.catalog import NO_OBJECT
+from voxposer.perception.observation import CameraFrame
 
 _CV_FROM_GL = np.diag([1.0, -1.0, -1.0])
 
@@ -38,31 +36,6 @@ def _gl_context(width: int, height: int) -> Any:
     backend = os.environ.get("MUJOCO_GL", "egl").lower()
     module = {"egl": "mujoco.egl", "osmesa": "mujoco.osmesa"}.get(backend, "mujoco.gl_context")
     return importlib.import_module(module).GLContext(width, height)
-
-
-@dataclass(frozen=True)
-class CameraFrame:
-    """One camera's view.
-
-    Attributes:
-        name: camera name (without the ``_camera`` suffix).
-        rgb: colour image, shape (H, W, 3), uint8.
-        depth: depth along the optical axis [m], shape (H, W), float32; ``inf`` for background.
-        intrinsics: K, shape (3, 3).
-        extrinsics: camera-to-world transform, shape (4, 4) (OpenCV camera axes).
-        segmentation: MuJoCo (object id, object type) per pixel, shape (H, W, 2), int32;
-            (-1, -1) for background.
-        object_ids: scene-object label per pixel (see :mod:`voxposer.envs.registry`), shape
-            (H, W), int32; -1 where no object.
-    """
-
-    name: str
-    rgb: NDArray[np.uint8]
-    depth: NDArray[np.float32]
-    intrinsics: NDArray[np.float64]
-    extrinsics: NDArray[np.float64]
-    segmentation: NDArray[np.int32]
-    object_ids: NDArray[np.int32]
 
 
 def intrinsics_matrix(width: int, height: int, fovy_deg: float) -> NDArray[np.float64]:
@@ -194,7 +167,6 @@ class CameraRenderer:
             depth=depth,
             intrinsics=intrinsics_matrix(width, height, float(self._model.cam_fovy[cam_id])),
             extrinsics=self.extrinsics(data, cam_id),
-            segmentation=seg,
             object_ids=ids,
         )
 

@@ -10,24 +10,24 @@ import math
 from dataclasses import dataclass, field
 from typing import Final
 
+from voxposer import tabletop
+from voxposer.catalog import COLOR_NAMES
 from voxposer.errors import ConfigError
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.geometry.voxel_grid import VoxelGrid
 
-#: The paper's ten colours (App. A.5) with their RGBA.
-COLORS: Final[dict[str, tuple[float, float, float, float]]] = {
-    "blue": (0.12, 0.30, 0.85, 1.0),
-    "green": (0.15, 0.65, 0.20, 1.0),
-    "yellow": (0.95, 0.85, 0.10, 1.0),
-    "pink": (0.98, 0.55, 0.75, 1.0),
-    "brown": (0.50, 0.30, 0.12, 1.0),
-    "red": (0.85, 0.10, 0.10, 1.0),
-    "orange": (1.00, 0.50, 0.05, 1.0),
-    "purple": (0.50, 0.15, 0.70, 1.0),
-    "cyan": (0.10, 0.85, 0.90, 1.0),
-    "gray": (0.50, 0.50, 0.50, 1.0),
-}
-#: The three drawers, top to bottom.
-DRAWERS: Final = ("top", "middle", "bottom")
+#: RGBA of each of the paper's ten colours (App. A.5), in the catalog's label order.
+COLORS: Final[dict[str, tuple[float, float, float, float]]] = dict(zip(COLOR_NAMES, (
+    (0.12, 0.30, 0.85, 1.0),
+    (0.15, 0.65, 0.20, 1.0),
+    (0.95, 0.85, 0.10, 1.0),
+    (0.98, 0.55, 0.75, 1.0),
+    (0.50, 0.30, 0.12, 1.0),
+    (0.85, 0.10, 0.10, 1.0),
+    (1.00, 0.50, 0.05, 1.0),
+    (0.50, 0.15, 0.70, 1.0),
+    (0.10, 0.85, 0.90, 1.0),
+    (0.50, 0.50, 0.50, 1.0),
+), strict=True))
 
 
 def _positive(name: str, value: float) -> None:
@@ -132,6 +132,8 @@ class ControllerConfig:
 class WorldConfig:
     """The tabletop world: table, robot placement, objects, physics and workspace grid.
 
+    Defaults are the one layout description, :mod:`voxposer.tabletop`.
+
     Attributes:
         timestep: physics step [s].
         table_min, table_max: table top extent in x, y [m]; the top surface is z = 0.
@@ -144,18 +146,18 @@ class WorldConfig:
     """
 
     timestep: float = 0.002
-    table_min: tuple[float, float] = (-0.70, -0.50)
-    table_max: tuple[float, float] = (0.30, 0.50)
-    robot_base: tuple[float, float, float] = (-0.60, 0.0, 0.0)
-    block_size: float = 0.05
+    table_min: tuple[float, float] = tabletop.TABLE_MIN
+    table_max: tuple[float, float] = tabletop.TABLE_MAX
+    robot_base: tuple[float, float, float] = tabletop.ROBOT_BASE
+    block_size: float = tabletop.BLOCK_SIZE
     block_mass: float = 0.1
     block_friction: float = 1.0
-    line_length: float = 0.20
-    line_width: float = 0.012
-    cabinet_position: tuple[float, float] = (-0.05, 0.37)
-    workspace_min: tuple[float, float, float] = (-0.70, -0.50, -0.02)
-    workspace_max: tuple[float, float, float] = (0.30, 0.50, 0.98)
-    grid_shape: tuple[int, int, int] = (100, 100, 100)
+    line_length: float = tabletop.LINE_LENGTH
+    line_width: float = tabletop.LINE_WIDTH
+    cabinet_position: tuple[float, float] = tabletop.CABINET_POSITION
+    workspace_min: tuple[float, float, float] = tabletop.WORKSPACE_MIN
+    workspace_max: tuple[float, float, float] = tabletop.WORKSPACE_MAX
+    grid_shape: tuple[int, int, int] = tabletop.GRID_SHAPE
     cameras: CameraConfig = field(default_factory=CameraConfig)
     controller: ControllerConfig = field(default_factory=ControllerConfig)
 

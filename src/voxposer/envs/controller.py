@@ -19,16 +19,7 @@ from scipy.spatial.transform import Rotation, Slerp
 
 from voxposer.envs.config import ControllerConfig
 from voxposer.envs.ik import IKResult, IKSolver, rotation_angle
-
-
-def wxyz_to_xyzw(q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Scalar-first (MuJoCo) → scalar-last (scipy) quaternion."""
-    return np.array([q[1], q[2], q[3], q[0]])
-
-
-def xyzw_to_wxyz(q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Scalar-last (scipy) → scalar-first (MuJoCo) quaternion."""
-    return np.array([q[3], q[0], q[1], q[2]])
+from voxposer.geometry.frames import wxyz_to_xyzw, xyzw_to_wxyz
 
 
 @dataclass(frozen=True)

@@ -17,12 +17,13 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from voxposer.envs.config import DRAWERS, WorldConfig
+from voxposer.catalog import DRAWERS
+from voxposer.envs.config import WorldConfig
 from voxposer.envs.layout import PLACE_MAX, PLACE_MIN
 from voxposer.envs.registry import ObjectRegistry
 from voxposer.envs.robot_model import EE_SITE, PREFIX
-from voxposer.envs.scene import DRAWER_TRAVEL
 from voxposer.errors import LayoutError
+from voxposer.tabletop import DRAWER_TRAVEL
 
 #: Links a random force may hit.
 PUSHABLE_LINKS = tuple(f"{PREFIX}link{i}" for i in range(3, 8)) + (f"{PREFIX}hand_right_gripper",)
@@ -92,10 +93,10 @@ class DisturbanceMixin:
                 raise LayoutError("no block is present to displace")
             name = str(rng.choice(blocks))
         obj = self.registry.resolve(name, tuple(blocks))
-        adr = self.model.joint(f"{obj.body}_joint").qposadr[0]
-        dof = self.model.joint(f"{obj.body}_joint").dofadr[0]
+        adr = self.model.joint(f"{self.registry.body(obj.name)}_joint").qposadr[0]
+        dof = self.model.joint(f"{self.registry.body(obj.name)}_joint").dofadr[0]
         before = self.data.qpos[adr:adr + 3].copy()
-        others = [self.data.xpos[self.model.body(self.registry.resolve(b).body).id][:2]
+        others = [self.data.xpos[self.model.body(self.registry.body(b)).id][:2]
                   for b in blocks if b != obj.name]
         clearance = self.config.block_size * 1.6
         for _ in range(200):
@@ -123,13 +124,13 @@ class DisturbanceMixin:
         """
         blocks = [n for n in self._present if n.endswith(" block")]
         obj = self.registry.resolve(name, tuple(blocks))
-        adr = self.model.joint(f"{obj.body}_joint").qposadr[0]
-        dof = self.model.joint(f"{obj.body}_joint").dofadr[0]
+        adr = self.model.joint(f"{self.registry.body(obj.name)}_joint").qposadr[0]
+        dof = self.model.joint(f"{self.registry.body(obj.name)}_joint").dofadr[0]
         before = self.data.qpos[adr:adr + 3].copy()
         back = np.asarray(to, dtype=np.float64).reshape(-1)[:2] - before[:2]
         if float(np.linalg.norm(back)) < 0.02:
             raise LayoutError(f"the {obj.name} has made no progress to revert")
-        others = [self.data.xpos[self.model.body(self.registry.resolve(b).body).id][:2]
+        others = [self.data.xpos[self.model.body(self.registry.body(b)).id][:2]
                   for b in blocks if b != obj.name]
         hand = self.data.site_xpos[self.model.site(EE_SITE).id][:2]
         clearance = self.config.block_size * 1.6
@@ -164,7 +165,7 @@ class DisturbanceMixin:
             raise LayoutError("the cabinet is not in the scene; there is no progress to revert")
         which = (drawer or str(rng.choice(DRAWERS))).lower().removesuffix(" drawer").strip()
         obj = self.registry.resolve(f"{which} drawer", self._present)
-        return obj, self.model.joint(f"{obj.body}_joint")
+        return obj, self.model.joint(f"{self.registry.body(obj.name)}_joint")
 
     def pull_drawer(self, rng: np.random.Generator, drawer: str | None = None, *,
                     force: tuple[float, float] = (30.0, 50.0), duration: float = 0.1

@@ -16,9 +16,10 @@ from typing import Final
 import numpy as np
 from numpy.typing import NDArray
 
-from voxposer.envs.config import COLORS, DRAWERS, WorldConfig
-from voxposer.envs.scene import CABINET_SIZE, DRAWER_TRAVEL
+from voxposer.catalog import DRAWERS
+from voxposer.envs.config import COLORS, WorldConfig
 from voxposer.errors import LayoutError
+from voxposer.tabletop import CABINET_SIZE, DRAWER_TRAVEL
 
 #: Region (x, y) [m] where random objects are placed: in front of the robot, clear of the edges.
 PLACE_MIN: Final = (-0.36, -0.36)

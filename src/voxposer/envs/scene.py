@@ -20,8 +20,16 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from voxposer.envs.config import COLORS, DRAWERS, CameraConfig, WorldConfig
+from voxposer.envs.config import COLORS, CameraConfig, WorldConfig
 from voxposer.envs.robot_model import add_panda
+from voxposer.tabletop import (
+    CABINET_SIZE,
+    CABINET_WALL,
+    DRAWER_TRAVEL,
+    HANDLE_HALF,
+    HANDLE_STANDOFF,
+    drawer_slots,
+)
 
 #: Environment collision bits (collide with everything, including the robot).
 ENV_CONTYPE: Final = 1
@@ -30,10 +38,7 @@ ENV_CONAFFINITY: Final = 1
 PARKING_Z: Final = -5.0
 FLOOR_Z: Final = -0.75
 
-#: Cabinet geometry [m]: outer size along x, y, z; wall thickness; drawer travel.
-CABINET_SIZE: Final = (0.32, 0.26, 0.36)
-CABINET_WALL: Final = 0.012
-DRAWER_TRAVEL: Final = 0.20
+#: Mass of one drawer [kg] (its size and travel: :mod:`voxposer.tabletop`).
 DRAWER_MASS: Final = 0.6
 
 
@@ -114,21 +119,20 @@ def _add_cabinet(spec: mujoco.MjSpec, cfg: WorldConfig) -> None:
     _box(cab, "cabinet_left_wall", (w, sy, sz), (-sx + w, 0, sz), wood)
     _box(cab, "cabinet_right_wall", (w, sy, sz), (sx - w, 0, sz), wood)
     _box(cab, "cabinet_back", (sx, w, sz), (0, sy - w, sz), wood)
-    slot = (2 * sz - 2 * CABINET_WALL) / len(DRAWERS)
     inner_x = sx - CABINET_WALL - 0.004
     front = (0.85, 0.80, 0.72, 1.0)
-    for k, which in enumerate(DRAWERS):
-        z0 = 2 * sz - CABINET_WALL - (k + 1) * slot  # bottom of this slot
-        if k > 0:
+    for k, drawer in enumerate(drawer_slots()):
+        which, slot = drawer.name, 2 * (drawer.half_height + 0.006)
+        if k > 0:  # the shelf above this drawer
             _box(cab, f"cabinet_shelf_{k}", (sx - CABINET_WALL, sy - CABINET_WALL, w / 2),
-                 (0, 0, z0 + slot), wood)
-        body = cab.add_body(name=f"{which}_drawer", pos=[0.0, 0.0, z0 + slot / 2])
+                 (0, 0, drawer.centre_z + slot / 2), wood)
+        body = cab.add_body(name=f"{which}_drawer", pos=[0.0, 0.0, drawer.centre_z])
         joint = body.add_joint(name=f"{which}_drawer_joint", type=mujoco.mjtJoint.mjJNT_SLIDE,
                                axis=[0.0, -1.0, 0.0], range=[0.0, DRAWER_TRAVEL])
         joint.damping = [8.0, 0.0, 0.0]
         joint.frictionloss = 0.5
         joint.armature = 0.05
-        hz = slot / 2 - 0.006
+        hz = drawer.half_height
         depth = sy - CABINET_WALL - 0.003
         m = DRAWER_MASS / 5
         _box(body, f"{which}_drawer_front", (sx - 0.003, w, hz + 0.003), (0, -sy + w, 0), front,
@@ -141,9 +145,9 @@ def _add_cabinet(spec: mujoco.MjSpec, cfg: WorldConfig) -> None:
              (inner_x - w / 2, -CABINET_WALL / 2, -hz * 0.3), front, mass=m)
         _box(body, f"{which}_drawer_rear", (inner_x, w / 2, hz * 0.7),
              (0, depth - CABINET_WALL, -hz * 0.3), front, mass=m)
-        handle = body.add_body(name=f"{which}_drawer_handle", pos=[0.0, -sy - 0.03, 0.0])
+        handle = body.add_body(name=f"{which}_drawer_handle", pos=[0.0, -sy - HANDLE_STANDOFF, 0.0])
         metal = (0.25, 0.25, 0.28, 1.0)
-        _box(handle, f"{which}_drawer_handle_bar", (0.07, 0.008, 0.008), (0, 0, 0), metal, mass=0.05)
+        _box(handle, f"{which}_drawer_handle_bar", HANDLE_HALF, (0, 0, 0), metal, mass=0.05)
         for j, x in enumerate((-0.055, 0.055)):
             _box(handle, f"{which}_drawer_handle_post_{j}", (0.006, 0.012, 0.006),
                  (x, 0.019, 0), metal, mass=0.01)

@@ -1,8 +1,10 @@
-"""The world's read-only side: cameras, fused cloud, ``detect``, robot and object state.
+"""The world's read-only side: camera views, robot state, and ground truth for checks.
 
 A mixin of :class:`voxposer.envs.world.TabletopWorld`; split out so that physics/control and
-perception each stay one concept. Observations are cached until the physics state changes, so
-several ``detect`` calls at one instant render the cameras once.
+observation each stay one concept. Observations are cached until the physics state changes, so
+several perception queries at one instant render the cameras once. The world produces views with
+a ground-truth segmentation channel; detecting objects in them is perception's job
+(:class:`voxposer.perception.segmentation.SegmentationPerceiver`).
 """
 
 from __future__ import annotations
@@ -13,18 +15,17 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from voxposer.catalog import OBJECTS
 from voxposer.envs.cameras import CameraRenderer
 from voxposer.envs.config import WorldConfig
-from voxposer.envs.controller import wxyz_to_xyzw
-from voxposer.envs.observation import Observation
-from voxposer.envs.registry import OBJECTS, ObjectRegistry
-from voxposer.perception.detect import DetectedObject, detect_in_cloud
-from voxposer.perception.point_cloud import fuse_views
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.envs.registry import ObjectRegistry
+from voxposer.geometry.frames import wxyz_to_xyzw
+from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.perception.observation import Observation
 
 
 class SensingMixin:
-    """Observation, detection and state queries (needs the attributes declared below)."""
+    """Observation and state queries (needs the attributes declared below)."""
 
     config: WorldConfig
     grid: VoxelGrid
@@ -42,7 +43,7 @@ class SensingMixin:
     # ----------------------------------------------------------------- names
     @property
     def object_names(self) -> tuple[str, ...]:
-        """Names of the objects in the current scene (what ``detect`` accepts)."""
+        """Canonical names of the objects in the current scene."""
         return self._present
 
     @property
@@ -70,11 +71,11 @@ class SensingMixin:
 
     def observe(self, width: int | None = None, height: int | None = None, *,
                 rgb: bool = True) -> Observation:
-        """All camera views (RGB, depth [m], intrinsics, extrinsics, object ids) and the fused,
-        workspace-cropped, labelled point cloud with normals. Cached until the state changes.
+        """All camera views (RGB, depth [m], intrinsics, extrinsics, ground-truth object ids)
+        and the robot's state. Cached until the state changes.
 
-        ``rgb=False`` skips the colour pass (images and point colours are black): enough for
-        planning and ``detect``, about half the rendering time. An RGB observation also serves
+        ``rgb=False`` skips the colour pass (images are black): enough for planning and
+        detection, about half the rendering time. An RGB observation also serves
         later ``rgb=False`` requests at the same instant.
         """
         cams = self.config.cameras
@@ -90,7 +91,6 @@ class SensingMixin:
         self._obs = Observation(
             time=float(self.data.time),
             cameras=frames,
-            cloud=fuse_views(frames, self.grid),
             ee_position=pos,
             ee_quat=quat,
             gripper=self._gripper,
@@ -98,18 +98,6 @@ class SensingMixin:
         )
         self._obs_key = (*key, rgb)
         return self._obs
-
-    def detect(self, name: str) -> DetectedObject:
-        """Find ``name`` ("blue block", "top drawer handle", "the Cabinet"…) in the fused cloud.
-
-        Raises:
-            UnknownObjectError: the name is not an object of the current scene (lists them).
-            ObjectNotVisibleError: the object is present but no camera sees it.
-        """
-        obj = self.registry.resolve(name, self._present)
-        cloud = self.observe(rgb=False).cloud
-        return detect_in_cloud(cloud, self.registry.family_labels(obj.name), obj.name, self.grid,
-                               horizontal_normal=obj.kind in ("drawer", "handle"))
 
     def close(self) -> None:
         """Release the rendering context (the world stays usable; rendering reopens it)."""
@@ -135,25 +123,22 @@ class SensingMixin:
 
     def object_position(self, name: str) -> NDArray[np.float64]:
         """Simulator ground-truth position [m] of an object's root body (for success checks)."""
-        obj = self.registry.resolve(name, self._present)
-        return self.data.xpos[self.model.body(obj.body).id].copy()
+        self.registry.resolve(name, self._present)
+        return self.data.xpos[self.model.body(self.registry.body(name)).id].copy()
 
     def object_yaw(self, name: str) -> float:
         """Simulator ground-truth yaw [rad] of an object's root body about world z."""
-        obj = self.registry.resolve(name, self._present)
-        mat = self.data.xmat[self.model.body(obj.body).id].reshape(3, 3)
+        self.registry.resolve(name, self._present)
+        mat = self.data.xmat[self.model.body(self.registry.body(name)).id].reshape(3, 3)
         return math.atan2(mat[1, 0], mat[0, 0])
 
-    def sliding_axis(self, name: str) -> NDArray[np.float64] | None:
-        """World direction, shape (3,), in which a sliding part (a drawer or its handle) opens.
-
-        None for objects that move freely (blocks) or not at all.
-        """
-        obj = self.registry.resolve(name, self._present)
-        if obj.kind not in ("drawer", "handle"):
-            return None
-        drawer = self.registry.resolve(obj.name.removesuffix(" handle"), self._present)
-        joint = self.model.joint(f"{drawer.body}_joint")
+    def drawer_axis(self, drawer: str) -> NDArray[np.float64]:
+        """Simulator ground truth: the unit world direction, shape (3,), in which ``drawer``
+        ("top" or "top drawer") opens (for checks and tests; the executor gets the direction
+        from perception)."""
+        which = drawer.lower().removesuffix(" drawer").strip()
+        obj = self.registry.resolve(f"{which} drawer", self._present)
+        joint = self.model.joint(f"{self.registry.body(obj.name)}_joint")
         parent = self.model.jnt_bodyid[joint.id]
         axis = self.data.xmat[parent].reshape(3, 3) @ self.model.jnt_axis[joint.id]
         return np.asarray(axis / np.linalg.norm(axis), dtype=np.float64)
@@ -162,5 +147,5 @@ class SensingMixin:
         """How far a drawer ("top", "middle", "bottom" or "top drawer") is open [m]."""
         which = drawer.lower().removesuffix(" drawer").strip()
         obj = self.registry.resolve(f"{which} drawer", self._present)
-        joint = self.model.joint(f"{obj.body}_joint")
+        joint = self.model.joint(f"{self.registry.body(obj.name)}_joint")
         return float(self.data.qpos[joint.qposadr[0]])

@@ -1,6 +1,6 @@
 """``TabletopWorld``: the simulated tabletop of the paper (App. A.5) behind one small facade.
 
-Physics, control, cameras and detection of the MuJoCo scene built by
+Physics, control and cameras of the MuJoCo scene built by
 :mod:`voxposer.envs.scene`. Public quaternions are scalar-last (x, y, z, w); the end-effector's
 approach axis is its local +z (a top-down grasp points along world −z, :data:`TOP_DOWN_QUAT`).
 """
@@ -10,20 +10,20 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
+from voxposer.catalog import DRAWERS, OBJECTS
 from voxposer.envs.actions import check_command
-from voxposer.envs.config import DRAWERS, WorldConfig
-from voxposer.envs.controller import PoseController, wxyz_to_xyzw, xyzw_to_wxyz
+from voxposer.envs.config import WorldConfig
+from voxposer.envs.controller import PoseController
 from voxposer.envs.disturbances import DisturbanceMixin
 from voxposer.envs.ik import HOME_Q, IKSolver, rotation_angle
 from voxposer.envs.layout import Placement, SceneLayout, sample_placement
-from voxposer.envs.registry import OBJECTS, ObjectRegistry
+from voxposer.envs.registry import ObjectRegistry, body_of
 from voxposer.envs.robot_model import (
     ARM_ACTUATORS,
     ARM_JOINTS,
@@ -40,45 +40,15 @@ from voxposer.errors import (
     UnreachablePoseError,
     VoxPoserError,
 )
-from voxposer.valuemaps.maps import TOP_DOWN_QUAT as _TOP_DOWN
+from voxposer.geometry.frames import TOP_DOWN_QUAT as _TOP_DOWN
+from voxposer.geometry.frames import wxyz_to_xyzw, xyzw_to_wxyz
+from voxposer.robot import MoveResult, StepResult
 
 log = logging.getLogger(__name__)
 
 #: Top-down end-effector orientation (x, y, z, w): approach axis along world −z, fingers along y.
 TOP_DOWN_QUAT: NDArray[np.float64] = np.array(_TOP_DOWN)
 TOP_DOWN_QUAT.flags.writeable = False
-
-
-@dataclass(frozen=True)
-class StepResult:
-    """Outcome of one controller period.
-
-    Attributes:
-        ee_position: measured end-effector position [m] after the step, shape (3,).
-        at_goal: the interpolated reference has reached the commanded pose.
-        time: simulation time [s].
-    """
-
-    ee_position: NDArray[np.float64]
-    at_goal: bool
-    time: float
-
-
-@dataclass(frozen=True)
-class MoveResult:
-    """Outcome of :meth:`TabletopWorld.move_to_pose`.
-
-    Attributes:
-        reached: the measured pose ended within the controller tolerances of the target.
-        position_error: final distance to the target position [m].
-        rotation_error: final angle to the target orientation [rad].
-        duration: simulated time the move took [s].
-    """
-
-    reached: bool
-    position_error: float
-    rotation_error: float
-    duration: float
 
 
 def _yaw_quat(yaw: float) -> NDArray[np.float64]:
@@ -88,7 +58,11 @@ def _yaw_quat(yaw: float) -> NDArray[np.float64]:
 class TabletopWorld(SensingMixin, DisturbanceMixin):
     """The Panda, ten blocks, ten lines and a three-drawer cabinet on a table, with four cameras.
 
-    Call :meth:`reset` with a :class:`numpy.random.Generator` before anything else.
+    It is a :class:`voxposer.robot.Robot` and an observation source
+    (:class:`voxposer.perception.perceiver.ObservationSource`); objects are found in its
+    observations by perception, never by reading its bodies (those are for the benchmark's
+    checks: ``object_position`` and the like). Call :meth:`reset` with a
+    :class:`numpy.random.Generator` before anything else.
     """
 
     def __init__(self, config: WorldConfig | None = None) -> None:
@@ -144,7 +118,7 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
             d.qpos[adr:adr + 3] = (x, y, z)
             d.qpos[adr + 3:adr + 7] = _yaw_quat(yaw)
         for k, obj in enumerate(o for o in OBJECTS if o.kind == "line"):
-            mocap = m.body_mocapid[m.body(obj.body).id]
+            mocap = m.body_mocapid[m.body(body_of(obj)).id]
             if obj.colour in placement.lines:
                 x, y, yaw = placement.lines[obj.colour]
                 d.mocap_pos[mocap], d.mocap_quat[mocap] = (x, y, 0.0), _yaw_quat(yaw)
@@ -190,6 +164,26 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
         if not result.reached:
             raise LayoutError(f"the start pose {position} was missed by "
                               f"{result.position_error * 100:.1f} cm")
+
+    # ------------------------------------------------------ robot protocol
+    @property
+    def control_period(self) -> float:
+        """Duration of one :meth:`step` [s] (``ControllerConfig.control_dt``)."""
+        return float(self.config.controller.control_dt)
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return float(self.data.time)
+
+    @property
+    def base_position(self) -> NDArray[np.float64]:
+        """Position of the robot's base [m], shape (3,)."""
+        return np.asarray(self.config.robot_base, dtype=np.float64)
+
+    def joint_positions(self) -> NDArray[np.float64]:
+        """The seven arm joint angles [rad], shape (7,)."""
+        return np.asarray(self.data.qpos[self._arm_qpos], dtype=np.float64).copy()
 
     # -------------------------------------------------------------- physics
     def advance(self, nsteps: int) -> None:

@@ -6,19 +6,19 @@ Public API:
   scene and backend, with self-correction and a code cache; :class:`LMPConfig`, :data:`LMP_SPECS`.
 * :class:`ValueMapProgram` / :class:`ObjectProgram` — re-evaluable results handed to ``execute``.
 * :class:`ExecuteHandler`, :class:`ExecutionRequest`, :class:`RecordingHandler` — the ``execute`` hook.
-* :class:`Scene`, :class:`BoxScene`, :class:`WorldScene`, :func:`make_tabletop_scene`.
+* :class:`Scene`, :class:`BoxScene`, :class:`RobotScene`, :func:`make_tabletop_scene`.
 * :class:`Sandbox`, :class:`SandboxConfig` — running untrusted generated code.
 * :class:`Transcript` — JSONL log of prompts, responses, code and errors.
 """
 
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.handoff import ExecuteHandler, ExecutionRequest, RecordingHandler
-from voxposer.lmp.objects import ObjectView
+from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec
 from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.sandbox import Sandbox, SandboxConfig
-from voxposer.lmp.scene import BoxScene, Scene, WorldScene, make_tabletop_scene
+from voxposer.lmp.scene import BoxScene, RobotScene, Scene, make_tabletop_scene
 from voxposer.lmp.transcript import Transcript
 
 __all__ = [
@@ -34,11 +34,11 @@ __all__ = [
     "ObjectProgram",
     "ObjectView",
     "RecordingHandler",
+    "RobotScene",
     "Sandbox",
     "SandboxConfig",
     "Scene",
     "Transcript",
     "ValueMapProgram",
-    "WorldScene",
     "make_tabletop_scene",
 ]

@@ -23,8 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from voxposer.errors import OutOfWorkspaceError, VoxPoserError
-from voxposer.lmp.objects import ObjectView, match_name
+from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.scene import Scene
+from voxposer.perception.names import match_name
 from voxposer.places import TABLE_MAX, TABLE_MIN, Place, place_for_signs
 from voxposer.valuemaps.maps import ValueMapAPI
 

@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 
 from voxposer.errors import EmptyAffordanceError, ResultError
-from voxposer.lmp.objects import ObjectView
+from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.registry import LMPSpec
-from voxposer.valuemaps.grid import VoxelGrid
 from voxposer.valuemaps.maps import check_value_map
 
 #: Largest velocity scale accepted (the paper's "3x speed" is the largest in its task list).

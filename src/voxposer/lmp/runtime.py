@@ -28,7 +28,7 @@ from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
 from voxposer.lmp.checks import check_result
 from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.handoff import MAP_ARGUMENTS, ExecuteHandler, ExecutionRequest, RecordingHandler
-from voxposer.lmp.objects import ObjectView
+from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec

@@ -1,10 +1,11 @@
 """What the language model programs perceive: the :class:`Scene` protocol and a box scene.
 
 The LMP context needs only ``detect(name)``, ``object_names``, ``grid``, ``ee_pose()`` and
-``gripper_state()``. The MuJoCo world plugs in through :class:`WorldScene`; tests, the
+``gripper_state()``. A robot and its perceiver plug in through :class:`RobotScene`; tests, the
 ``voxposer lmp`` command and the accuracy benchmark use :class:`BoxScene`, a static scene of
-axis-aligned boxes (:func:`make_tabletop_scene` mirrors the simulated tabletop: table, cabinet
-with three drawers and handles, ten blocks and ten lines).
+axis-aligned boxes (:func:`make_tabletop_scene` lays out the simulator's tabletop from the same
+description, :mod:`voxposer.tabletop`: table, cabinet with three drawers and handles, ten blocks
+and ten lines).
 """
 
 from __future__ import annotations
@@ -16,12 +17,14 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from voxposer import tabletop
+from voxposer.catalog import COLOR_NAMES
 from voxposer.errors import ConfigError, UnknownObjectError
+from voxposer.geometry.frames import TOP_DOWN_QUAT
+from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.detect import DetectedObject
-from voxposer.valuemaps.grid import VoxelGrid
-from voxposer.valuemaps.maps import TOP_DOWN_QUAT
-
-COLOURS = ("blue", "green", "yellow", "pink", "brown", "red", "orange", "purple", "cyan", "gray")
+from voxposer.perception.perceiver import Perceiver
+from voxposer.robot import Robot
 
 
 @runtime_checkable
@@ -149,64 +152,73 @@ def _box_points(lo: NDArray[np.float64], hi: NDArray[np.float64]) -> NDArray[np.
     return np.vstack([corners, (lo + hi) / 2.0])
 
 
-class WorldScene:
-    """Adapts an object with ``grid``, ``object_names``, ``detect``, ``get_ee_pose`` and
-    ``get_gripper_state`` (the MuJoCo :class:`~voxposer.envs.world.TabletopWorld`) to :class:`Scene`."""
+class RobotScene:
+    """The :class:`Scene` of a robot and its perception: objects from a
+    :class:`~voxposer.perception.perceiver.Perceiver`, the end effector and gripper from a
+    :class:`~voxposer.robot.Robot` (the MuJoCo world is both)."""
 
-    def __init__(self, world: Any) -> None:
-        self.world = world
+    def __init__(self, perceiver: Perceiver, robot: Robot) -> None:
+        self.perceiver = perceiver
+        self.robot = robot
 
     @property
     def grid(self) -> VoxelGrid:
-        return self.world.grid
+        return self.perceiver.grid
 
     @property
     def object_names(self) -> tuple[str, ...]:
-        return tuple(self.world.object_names)
+        return tuple(self.perceiver.object_names)
 
     def detect(self, name: str) -> Any:
-        return self.world.detect(name)
+        return self.perceiver.detect(name)
 
     def ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        pos, quat = self.world.get_ee_pose()
+        pos, quat = self.robot.get_ee_pose()
         return np.asarray(pos, float), np.asarray(quat, float)
 
     def gripper_state(self) -> float:
-        return float(self.world.get_gripper_state())
+        return float(self.robot.get_gripper_state())
 
 
-#: Block centres (x, y) [m] in the fixed tabletop scene.
+#: Block centres (x, y) [m] in the fixed tabletop scene (all clear of the cabinet).
 BLOCK_XY = {
     "blue": (0.05, -0.20), "green": (-0.10, 0.05), "yellow": (0.10, 0.15),
     "pink": (-0.25, -0.25), "brown": (-0.05, -0.35), "red": (0.12, -0.05),
-    "orange": (-0.20, -0.05), "purple": (0.00, 0.30), "cyan": (-0.30, 0.10),
-    "gray": (0.15, 0.32),
+    "orange": (-0.20, -0.05), "purple": (-0.35, 0.30), "cyan": (-0.30, 0.10),
+    "gray": (0.20, 0.30),
 }
 
 
 def make_tabletop_scene() -> BoxScene:
     """The fixed tabletop scene used by ``voxposer lmp`` and the accuracy benchmark.
 
-    Workspace and layout mirror the simulated world (App. A.5): a 1 m table (top at z = 0)
-    over x ∈ [−0.70, 0.30], y ∈ [−0.50, 0.50]; a cabinet at (−0.25, 0.37) whose drawers open
-    towards −y with a handle on each drawer front; ten 5 cm blocks; ten 20 cm lines along y.
+    Built from the one layout description (:mod:`voxposer.tabletop`) that the simulator is built
+    from: the same table, workspace grid and cabinet (its drawers open toward −y, a handle on
+    each drawer front), ten 5 cm blocks at fixed places and ten 20 cm lines along y.
     """
-    grid = VoxelGrid((-0.70, -0.50, -0.02), (0.30, 0.50, 0.98), (100, 100, 100))
+    grid = VoxelGrid(tabletop.WORKSPACE_MIN, tabletop.WORKSPACE_MAX, tabletop.GRID_SHAPE)
+    (x0, y0), (x1, y1) = tabletop.TABLE_MIN, tabletop.TABLE_MAX
     boxes: dict[str, tuple[ArrayLike, ...]] = {
-        "table": ((-0.70, -0.50, -0.02), (0.30, 0.50, 0.0), (0.0, 0.0, 1.0)),
-        "cabinet": ((-0.41, 0.24, 0.0), (-0.09, 0.50, 0.36)),
+        "table": ((x0, y0, -0.02), (x1, y1, 0.0), (0.0, 0.0, 1.0)),
     }
-    for k, which in enumerate(("bottom", "middle", "top")):
-        z0 = 0.01 + 0.12 * k
-        boxes[f"{which} drawer"] = ((-0.40, 0.24, z0), (-0.10, 0.49, z0 + 0.11), (0, -1, 0))
-        zc = z0 + 0.055
-        boxes[f"{which} drawer handle"] = ((-0.29, 0.21, zc - 0.01), (-0.21, 0.24, zc + 0.01),
-                                           (0.0, -1.0, 0.0))
+    cx, cy = tabletop.CABINET_POSITION
+    sx, sy, sz = (s / 2 for s in tabletop.CABINET_SIZE)
+    boxes["cabinet"] = ((cx - sx, cy - sy, 0.0), (cx + sx, cy + sy, 2 * sz))
+    hx, hy, hz = tabletop.HANDLE_HALF
+    for slot in tabletop.drawer_slots():
+        z0, z1 = slot.centre_z - slot.half_height, slot.centre_z + slot.half_height
+        boxes[f"{slot.name} drawer"] = ((cx - sx, cy - sy, z0), (cx + sx, cy + sy, z1), (0, -1, 0))
+        hc = cy - sy - tabletop.HANDLE_STANDOFF
+        boxes[f"{slot.name} drawer handle"] = ((cx - hx, hc - hy, slot.centre_z - hz),
+                                               (cx + hx, hc + hy, slot.centre_z + hz),
+                                               (0.0, -1.0, 0.0))
+    half = tabletop.BLOCK_SIZE / 2
     for colour, (x, y) in BLOCK_XY.items():
-        boxes[f"{colour} block"] = ((x - 0.025, y - 0.025, 0.0), (x + 0.025, y + 0.025, 0.05))
-    for k, colour in enumerate(COLOURS):
+        boxes[f"{colour} block"] = ((x - half, y - half, 0.0), (x + half, y + half, 2 * half))
+    lw, ll = tabletop.LINE_WIDTH / 2, tabletop.LINE_LENGTH / 2
+    for k, colour in enumerate(COLOR_NAMES):
         x = -0.55 + 0.07 * k
         y = -0.12 if k % 2 == 0 else 0.12
-        boxes[f"{colour} line"] = ((x - 0.006, y - 0.10, 0.0), (x + 0.006, y + 0.10, 0.002),
+        boxes[f"{colour} line"] = ((x - lw, y - ll, 0.0), (x + lw, y + ll, 0.002),
                                    (0.0, 0.0, 1.0))
     return BoxScene(grid, boxes)

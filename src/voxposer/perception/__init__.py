@@ -1,24 +1,42 @@
-"""Perception: fused labelled point clouds with normals, and ``detect`` on top of them.
+"""Perception: observations, fused labelled point clouds, detection, obstacles, object names.
 
 Public API:
 
+* :class:`Observation`, :class:`CameraFrame` (what a robot's cameras report)
 * :class:`PointCloud`, :func:`fuse_views`, :func:`backproject`, :func:`camera_normals`
+* :class:`Perceiver` and :class:`ObservationSource` (the seam), :class:`SegmentationPerceiver`
+  (detection from a segmentation channel: the simulator's ground truth)
 * :class:`DetectedObject` (a frozen dataclass that also reads like a dict), :func:`detect_in_cloud`
+* :func:`scene_occupancy`, :func:`match_name`, :func:`normalize_name`, :func:`is_end_effector`
 """
 
 from voxposer.perception.detect import DetectedObject, detect_in_cloud
+from voxposer.perception.names import is_end_effector, match_name, normalize_name
+from voxposer.perception.observation import CameraFrame, Observation
+from voxposer.perception.perceiver import ObservationSource, Perceiver
 from voxposer.perception.point_cloud import (
     PointCloud,
     backproject,
     camera_normals,
     fuse_views,
 )
+from voxposer.perception.scene_occupancy import scene_occupancy
+from voxposer.perception.segmentation import SegmentationPerceiver
 
 __all__ = [
+    "CameraFrame",
     "DetectedObject",
+    "Observation",
+    "ObservationSource",
+    "Perceiver",
     "PointCloud",
+    "SegmentationPerceiver",
     "backproject",
     "camera_normals",
     "detect_in_cloud",
     "fuse_views",
+    "is_end_effector",
+    "match_name",
+    "normalize_name",
+    "scene_occupancy",
 ]

@@ -13,9 +13,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.errors import ObjectNotVisibleError
+from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.field_mapping import FieldMapping
 from voxposer.perception.point_cloud import PointCloud
-from voxposer.valuemaps.grid import VoxelGrid
 
 _KEYS: Final = ("name", "position", "aabb", "occupancy", "normal", "points", "normals")
 

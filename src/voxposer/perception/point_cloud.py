@@ -15,14 +15,14 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.geometry.voxel_grid import VoxelGrid
 
 #: A tangent whose depth jump exceeds this [m] crosses an edge; the normal there is left at 0.
 EDGE_JUMP = 0.02
 
 
 class DepthView(Protocol):
-    """What fusion needs of a camera view (e.g. :class:`voxposer.envs.cameras.CameraFrame`)."""
+    """What fusion needs of a camera view (e.g. :class:`voxposer.perception.observation.CameraFrame`)."""
 
     @property
     def depth(self) -> NDArray[np.float32]: ...

@@ -18,11 +18,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
 from voxposer.errors import ConfigError, StartBlockedError, TargetUnreachableError
+from voxposer.geometry.frames import TOP_DOWN_QUAT
+from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.planning.search import astar, greedy_descent
 from voxposer.planning.trajectory import Trajectory, collides, extract_trajectory, resample, smooth
 from voxposer.valuemaps.cost import CostMap, CostMapConfig, compose_cost_map
-from voxposer.valuemaps.grid import VoxelGrid
-from voxposer.valuemaps.maps import TOP_DOWN_QUAT, check_value_map
+from voxposer.valuemaps.maps import check_value_map
 
 PlanMethod = Literal["global", "greedy"]
 

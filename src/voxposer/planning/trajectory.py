@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 from scipy.signal import savgol_filter
 
 from voxposer.errors import InvalidMapError
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.valuemaps.maps import check_value_map
 
 

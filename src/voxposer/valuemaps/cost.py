@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
 
 from voxposer.errors import ConfigError, EmptyAffordanceError, OutOfWorkspaceError
-from voxposer.valuemaps.grid import VoxelGrid
+from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.valuemaps.maps import check_value_map
 from voxposer.valuemaps.voxel_ops import (
     ball,

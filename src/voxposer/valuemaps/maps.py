@@ -22,10 +22,10 @@ from typing import Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
 from voxposer.errors import InvalidMapError
-from voxposer.valuemaps.grid import VoxelGrid, unit_direction
+from voxposer.geometry.frames import TOP_DOWN_QUAT, pointat2quat
+from voxposer.geometry.voxel_grid import VoxelGrid
 
 MAP_KINDS: Final = ("affordance", "avoidance", "rotation", "velocity", "gripper")
 MAP_CHANNELS: Final[dict[str, int]] = {
@@ -35,12 +35,6 @@ MAP_CHANNELS: Final[dict[str, int]] = {
     "velocity": 1,
     "gripper": 1,
 }
-
-#: Orientation of the end effector pointing straight down, scalar-last (x, y, z, w): its local
-#: +z (approach axis) along world −z, local +x along world +y and local +y along world +x (the
-#: Panda hand's fingers then close along world x). A half turn about (1, 1, 0)/√2.
-TOP_DOWN_QUAT: Final = (float(np.sqrt(0.5)), float(np.sqrt(0.5)), 0.0, 0.0)
-
 
 def check_value_map(kind: str, value_map: object, grid: VoxelGrid) -> NDArray[np.floating]:
     """Validate a value map of ``kind`` for ``grid`` and return it as a float array.
@@ -70,23 +64,6 @@ def check_value_map(kind: str, value_map: object, grid: VoxelGrid) -> NDArray[np
             f"{kind} map holds NaN or inf (first at voxel {bad}); values must be finite"
         )
     return arr
-
-
-def pointat2quat(vector: ArrayLike) -> NDArray[np.float64]:
-    """Quaternion (x, y, z, w) that points the end effector's approach axis along ``vector``.
-
-    The rotation is the smallest one that turns the top-down grasp orientation
-    (:data:`TOP_DOWN_QUAT`, approach along world −z) so that its approach axis is ``vector``.
-    ``vector`` is a world direction, shape (3,); it need not be normalised.
-    """
-    target = unit_direction(vector)
-    down = np.array([0.0, 0.0, -1.0])
-    if np.allclose(target, -down):
-        align = Rotation.from_rotvec(np.pi * np.array([0.0, 1.0, 0.0]))
-    else:
-        align, _ = Rotation.align_vectors(target[None], down[None])
-    q = (align * Rotation.from_quat(TOP_DOWN_QUAT)).as_quat()
-    return q if q[3] >= 0 else -q
 
 
 @dataclass

@@ -1,46 +1,34 @@
-"""The registry of the paper's 13 simulated tasks (Table 4), in Table 4's row order.
+"""The benchmark's tasks: the paper's 13 simulated tasks (Table 4), in Table 4's row order.
 
-``get_task(name)`` returns a task; unknown names raise ConfigError listing the known ones.
+Every module of this package that defines a :class:`~voxposer.bench.task.BenchTask` subclass
+registers it on import; this package imports them all. Tasks of the paper come in the row order
+of its Table 4, any others after them by name. ``get_task(name)`` returns a task; unknown names
+raise ConfigError listing the known ones.
 """
 
 from __future__ import annotations
 
+import importlib
+import pkgutil
 from typing import Final
 
-from voxposer.bench.task import BenchTask
-from voxposer.bench.tasks.close_drawer import CloseDrawer
-from voxposer.bench.tasks.drop_to_pos import DropToPos
-from voxposer.bench.tasks.grasp_at_velocity import GraspAtVelocity
-from voxposer.bench.tasks.min_distance import MinDistance
-from voxposer.bench.tasks.move_to_preposition import MoveToPreposition
-from voxposer.bench.tasks.move_to_region import MoveToRegion
-from voxposer.bench.tasks.push_along_line import PushAlongLine
-from voxposer.bench.tasks.push_avoid_obstacle import PushAvoidObstacle
-from voxposer.bench.tasks.push_stay_on_region import PushStayOnRegion
-from voxposer.bench.tasks.push_to_pos import PushToPos
-from voxposer.bench.tasks.staying_on_preposition import StayingOnPreposition
-from voxposer.bench.tasks.velocity_in_region import VelocityInRegion
-from voxposer.bench.tasks.velocity_near_obj import VelocityNearObj
+from voxposer.bench.paper import TABLE4
+from voxposer.bench.task import BenchTask, registered_tasks
 from voxposer.errors import ConfigError
+
+for _module in pkgutil.iter_modules(__path__):
+    if not _module.name.startswith("_"):
+        importlib.import_module(f"{__name__}.{_module.name}")
+
+
+def _order(task: BenchTask) -> tuple[int, str]:
+    rows = list(TABLE4)
+    return (rows.index(task.paper_row) if task.paper_row in rows else len(rows), task.name)
+
 
 #: task name → task, in the row order of the paper's Table 4.
 TASKS: Final[dict[str, BenchTask]] = {
-    t.name: t
-    for t in (
-        MoveToPreposition(),
-        StayingOnPreposition(),
-        VelocityNearObj(),
-        CloseDrawer(),
-        PushAlongLine(),
-        GraspAtVelocity(),
-        DropToPos(),
-        PushStayOnRegion(),
-        MoveToRegion(),
-        MinDistance(),
-        VelocityInRegion(),
-        PushAvoidObstacle(),
-        PushToPos(),
-    )
+    t.name: t for t in sorted((cls() for cls in registered_tasks().values()), key=_order)
 }
 
 

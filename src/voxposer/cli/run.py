@@ -11,7 +11,6 @@ status 0 only when every sub-task reached its target.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import logging
 import re
@@ -24,6 +23,7 @@ from rich.console import Console
 from rich.live import Live
 from rich.table import Table
 
+from voxposer.cli.llm_options import add_llm_options
 from voxposer.errors import VoxPoserError
 
 log = logging.getLogger(__name__)
@@ -40,17 +40,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument(
         "--out", type=Path, default=None, help="output folder (default runs/<time>-<words>)"
     )
-    p.add_argument(
-        "--llm",
-        choices=("default", "llama_cpp", "openai", "replay"),
-        default=None,
-        help="LLM backend (default: VOXPOSER_LLM_BACKEND or the bundled local model)",
-    )
-    p.add_argument("--model", default=None, help="model name (openai) or GGUF path (llama_cpp)")
-    p.add_argument("--base-url", default=None, help="OpenAI-compatible endpoint URL")
-    p.add_argument(
-        "--recordings", type=Path, default=None, help="recorded responses (--llm replay)"
-    )
+    add_llm_options(p)
     p.add_argument(
         "--disturb",
         action="store_true",
@@ -71,17 +61,9 @@ def _out_dir(args: argparse.Namespace) -> Path:
 
 
 def _backend(args: argparse.Namespace) -> Any:
-    from voxposer.lmp.backends import LLMConfig, make_backend
+    from voxposer.cli.llm_options import backend_from_args
 
-    config = LLMConfig.from_env()
-    overrides = {
-        "backend": args.llm,
-        "model": args.model,
-        "base_url": args.base_url,
-        "recordings_path": args.recordings,
-    }
-    config = dataclasses.replace(config, **{k: v for k, v in overrides.items() if v is not None})
-    return make_backend(config)
+    return backend_from_args(args)
 
 
 class _Progress:
@@ -197,11 +179,9 @@ def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> No
     from voxposer.control import ExecutorConfig
     from voxposer.control.disturbance_schedule import DisturbanceSchedule, Disturber
     from voxposer.control.recording import VideoRecorder
-    from voxposer.control.robot_handoff import RobotHandoff
     from voxposer.envs import TabletopWorld
-    from voxposer.lmp.runtime import LMPRuntime
-    from voxposer.lmp.scene import WorldScene
     from voxposer.lmp.transcript import Transcript
+    from voxposer.pipeline import Embodiment, voxposer_runtime
 
     progress = _Progress(args.instruction)
     rng = np.random.default_rng(args.seed)
@@ -210,7 +190,11 @@ def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> No
     world.reset(rng, layout)
     backend = _progress_backend(_backend(args), progress)
     summary["model"] = backend.model
-    executor = RobotHandoff(world, rng, ExecutorConfig(max_time_s=args.max_time), picture_dir=out)
+    transcript = Transcript(out / "transcript.jsonl")
+    runtime, executor = voxposer_runtime(
+        Embodiment.simulated(world), backend, rng,
+        executor_config=ExecutorConfig(max_time_s=args.max_time), picture_dir=out,
+        transcript=transcript)
     disturber = None
     if args.disturb:  # on sub-task progress (voxposer.control.disturbance_schedule)
         relevant = tuple(f"{c} block" for c in layout.blocks)
@@ -230,8 +214,6 @@ def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> No
 
     executor.on_replan = on_replan
     executor.on_subtask = on_subtask
-    transcript = Transcript(out / "transcript.jsonl")
-    runtime = LMPRuntime(WorldScene(world), backend, executor, transcript=transcript)
     recorder = None if args.no_video else VideoRecorder(world, out / "rollout.mp4")
     try:
         with Live(progress, console=console, refresh_per_second=4, transient=False):

@@ -32,9 +32,9 @@ console = Console(stderr=True)
 def _plan_demo(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from voxposer.envs.synthetic import make_synthetic_scene
     from voxposer.planning import PathPlanner, PlannerConfig
     from voxposer.planning.picture import plan_figure, write_plan_html
+    from voxposer.planning.synthetic_scene import make_synthetic_scene
 
     scene = make_synthetic_scene(np.random.default_rng(args.seed))
     maps: dict[str, Any] = {
@@ -89,15 +89,12 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=int, default=0, help="seed for the random obstacle blobs")
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
     demo.set_defaults(func=_plan_demo)
-    from voxposer import run_cmd
-    from voxposer.bench import bench_cmd
-    from voxposer.envs import render_cmd
-    from voxposer.lmp import lmp_cmd
+    from voxposer.cli import bench, lmp, render, run
 
-    run_cmd.add_parser(sub)
-    bench_cmd.add_parser(sub)
-    lmp_cmd.add_parser(sub)
-    render_cmd.add_parser(sub)
+    run.add_parser(sub)
+    bench.add_parser(sub)
+    lmp.add_parser(sub)
+    render.add_parser(sub)
     return parser
 
 

@@ -17,10 +17,10 @@ import numpy as np
 from rich.console import Console
 from rich.syntax import Syntax
 
+from voxposer.cli.llm_options import add_llm_options, backend_from_args
 from voxposer.errors import VoxPoserError
-from voxposer.lmp.cli_backend import add_backend_args, backend_from_args
 from voxposer.lmp.handoff import RecordingHandler
-from voxposer.lmp.objects import ObjectView
+from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.registry import LMP_SPECS, LMPConfig, get_spec
 from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.scene import BoxScene, make_tabletop_scene
@@ -43,7 +43,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                         help="output directory for map.html and transcript.jsonl")
     parser.add_argument("--max-attempts", type=int, default=3,
                         help="LLM calls per query including self-correction")
-    add_backend_args(parser)
+    add_llm_options(parser)
     parser.set_defaults(func=run)
     return parser
 

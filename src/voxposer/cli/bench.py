@@ -34,11 +34,12 @@ from rich.progress import (
 )
 
 from voxposer.bench.attributes import SPLITS
-from voxposer.bench.config import Tolerances
-from voxposer.bench.methods import METHODS, REFERENCE_BLIND
+from voxposer.bench.methods import METHODS, REFERENCE_BLIND, REFERENCE_LLMS
+from voxposer.bench.outputs import write_outputs
 from voxposer.bench.protocol import INSTRUCTION_SPLITS, SEED_SETS
-from voxposer.bench.runner import LLM_CHOICES, BenchConfig, run_bench
+from voxposer.bench.runner import BenchConfig, run_bench
 from voxposer.bench.tasks import TASKS
+from voxposer.cli.llm_options import add_llm_options, llm_overrides
 
 log = logging.getLogger(__name__)
 console = Console(stderr=True)
@@ -62,12 +63,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    help=f"instruction split, one of: {', '.join(INSTRUCTION_SPLITS)} (unseen: "
                    "each task's few-shot examples are held out of every prompt; LLMs only)")
     p.add_argument("--method", default="voxposer", help=f"one of: {', '.join(METHODS)}")
-    p.add_argument("--llm", default="default", choices=LLM_CHOICES,
-                   help="LLM backend; 'reference' = hand-written reference programs (no LLM); "
-                   "'reference-blind' = the same minus the constraint's map (control)")
-    p.add_argument("--model", default=None, help="model name (openai) or GGUF path (llama_cpp)")
-    p.add_argument("--base-url", default=None, help="OpenAI-compatible endpoint URL")
-    p.add_argument("--recordings", type=Path, default=None, help="recordings (--llm replay)")
+    add_llm_options(p, extra_choices=REFERENCE_LLMS, default="default", record=False,
+                    extra_help="; 'reference' = hand-written reference programs (no LLM); "
+                    "'reference-blind' = the same minus the constraint's map (control)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: cores)")
     p.add_argument("--pool", choices=("local", "ray"), default="local",
                    help="local process pool, or a Ray cluster (pip install 'voxposer[ray]')")
@@ -96,8 +94,7 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
 def _config(args: argparse.Namespace) -> BenchConfig:
     tasks = tuple(TASKS) if args.tasks == "all" else tuple(
         t.strip() for t in args.tasks.split(",") if t.strip())
-    overrides = {k: v for k, v in {"model": args.model, "base_url": args.base_url,
-                                   "recordings_path": args.recordings}.items() if v is not None}
+    overrides = llm_overrides(args)
     kwargs: dict[str, Any] = {}
     if args.workers is not None:
         kwargs["workers"] = args.workers
@@ -108,22 +105,6 @@ def _config(args: argparse.Namespace) -> BenchConfig:
                        max_time_s=args.max_time, llm_overrides=overrides,
                        fresh_cache=args.fresh_cache, video=args.video, disturb=args.disturb,
                        **kwargs)
-
-
-def write_outputs(records: list[dict[str, Any]], out: Path, plot: bool,
-                  wall_rates: dict[str, float] | None = None, allow_mixed: bool = False) -> Path:
-    """Write report.md (and success.png); returns the report's path (ConfigError when the
-    records mix code versions and not ``allow_mixed``)."""
-    from voxposer.bench.report import main_records, markdown
-
-    report = out / "report.md"
-    text = markdown(records, Tolerances(), wall_rates, allow_mixed=allow_mixed, out=out)
-    report.write_text(text, encoding="utf-8")
-    if plot and records:
-        from voxposer.bench.plot import write_chart
-
-        write_chart(main_records(records)[0], out / "success.png")
-    return report
 
 
 def _default_out(cfg: BenchConfig) -> str:

@@ -1,0 +1,24 @@
+"""A benchmark run's outputs beside its episodes: the report (Markdown) and the success plot."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from voxposer.bench.config import Tolerances
+
+
+def write_outputs(records: list[dict[str, Any]], out: Path, plot: bool,
+                  wall_rates: dict[str, float] | None = None, allow_mixed: bool = False) -> Path:
+    """Write report.md (and success.png); returns the report's path (ConfigError when the
+    records mix code versions and not ``allow_mixed``)."""
+    from voxposer.bench.report import main_records, markdown
+
+    report = out / "report.md"
+    text = markdown(records, Tolerances(), wall_rates, allow_mixed=allow_mixed, out=out)
+    report.write_text(text, encoding="utf-8")
+    if plot and records:
+        from voxposer.bench.plot import write_chart
+
+        write_chart(main_records(records)[0], out / "success.png")
+    return report

@@ -1,0 +1,121 @@
+"""Perception from a segmentation channel: the simulator's ground truth, as in the paper's
+simulated setup (App. A.5). All geometry comes from the fused depth, not from body poses.
+
+Each call works on the latest observation of an :class:`ObservationSource`; the fused cloud is
+computed once per observation, so several ``detect`` calls at one instant fuse once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from voxposer import catalog
+from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.perception.detect import DetectedObject, detect_in_cloud
+from voxposer.perception.names import match_name
+from voxposer.perception.observation import Observation
+from voxposer.perception.perceiver import ObservationSource
+from voxposer.perception.point_cloud import PointCloud, fuse_views
+from voxposer.perception.scene_occupancy import scene_occupancy
+
+
+class SegmentationPerceiver:
+    """A :class:`~voxposer.perception.perceiver.Perceiver` reading object labels from the views'
+    segmentation channel (``CameraFrame.object_ids``).
+
+    Args:
+        source: what observes the scene (e.g. :class:`voxposer.envs.TabletopWorld`).
+        grid: the workspace grid; the fused cloud is cropped to it.
+    """
+
+    def __init__(self, source: ObservationSource, grid: VoxelGrid) -> None:
+        self.source = source
+        self._grid = grid
+        self._obs: Observation | None = None
+        self._cloud: PointCloud | None = None
+
+    @property
+    def grid(self) -> VoxelGrid:
+        return self._grid
+
+    @property
+    def object_names(self) -> tuple[str, ...]:
+        return tuple(self.source.object_names)
+
+    def observe(self) -> Observation:
+        obs = self.source.observe(rgb=False)
+        if obs is not self._obs:
+            self._obs, self._cloud = obs, None
+        return obs
+
+    def point_cloud(self) -> PointCloud:
+        obs = self.observe()
+        if self._cloud is None:
+            self._cloud = fuse_views(obs.cameras, self._grid)
+        return self._cloud
+
+    def detect(self, name: str) -> DetectedObject:
+        """Find ``name`` ("blue block", "the top drawer's handle"…) in the fused cloud.
+
+        Raises:
+            UnknownObjectError: the name matches no object of the scene (lists them).
+            ObjectNotVisibleError: the object is present but no camera sees it.
+        """
+        canonical = match_name(name, self.object_names)
+        cloud = self.point_cloud()
+        names = self.observe().label_names
+        members = set(catalog.family(canonical)) if canonical in names else {canonical}
+        labels = np.asarray([k for k, n in enumerate(names) if n in members], dtype=np.int32)
+        sliding = canonical in names and catalog.object_named(canonical).kind in \
+            catalog.SLIDING_KINDS
+        return detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
+
+    def scene_occupancy(self, entity: str, *, holding: bool, ignore_table: bool = False
+                        ) -> NDArray[np.bool_]:
+        obs = self.observe()
+        return scene_occupancy(self.point_cloud(), obs.label_names, obs.ee_position, self._grid,
+                               entity=entity, holding=holding, ignore_table=ignore_table)
+
+    def sliding_axis(self, name: str) -> NDArray[np.float64] | None:
+        """The outward normal of the sliding part's front, seen by the cameras: a drawer (or
+        the drawer of a handle) is pulled out along the normal of its front face. The front is
+        the dominant direction among the drawer's sideways-facing normals (:func:`dominant_normal`;
+        its side walls, visible once it is open, face 90° away and are left out)."""
+        canonical = match_name(name, self.object_names)
+        try:
+            obj = catalog.object_named(canonical)
+        except KeyError:
+            return None
+        if obj.kind not in catalog.SLIDING_KINDS:
+            return None
+        drawer = obj.parent if obj.kind == "handle" and obj.parent is not None else obj.name
+        return dominant_normal(np.asarray(self.detect(drawer).normals, dtype=np.float64))
+
+
+def dominant_normal(normals: NDArray[np.float64], cone_deg: float = 25.0, rounds: int = 3
+                    ) -> NDArray[np.float64] | None:
+    """The horizontal direction most of ``normals`` (shape (N, 3)) face, as a unit vector, shape
+    (3,): among the sideways-facing ones (|n_z| < 0.5), start from the most populated 10° sector
+    of azimuth, then ``rounds`` times take the mean of those within ``cone_deg`` of the last
+    estimate. None when no normal faces sideways."""
+    flat = normals[(np.linalg.norm(normals, axis=1) > 0.5) & (np.abs(normals[:, 2]) < 0.5)]
+    flat = flat * np.array([1.0, 1.0, 0.0])
+    if len(flat) == 0:
+        return None
+    flat /= np.linalg.norm(flat, axis=1, keepdims=True)
+    counts = np.bincount(((np.arctan2(flat[:, 1], flat[:, 0]) + np.pi) // np.radians(10.0))
+                         .astype(int) % 36, minlength=36)
+    peak = (int(np.argmax(counts)) + 0.5) * np.radians(10.0) - np.pi
+    estimate = np.array([np.cos(peak), np.sin(peak), 0.0])
+    for _ in range(rounds):
+        length = float(np.linalg.norm(estimate))
+        if length < 1e-9:
+            return None
+        estimate /= length
+        near = flat[flat @ estimate > np.cos(np.radians(cone_deg))]
+        if len(near) == 0:
+            break
+        estimate = near.mean(axis=0)
+    length = float(np.linalg.norm(estimate))
+    return estimate / length if length > 1e-9 else None
