@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from voxposer.lmp.api import LMPAPI
+from voxposer.lmp.api import LMPAPI, SideError
 from voxposer.lmp.scene import make_tabletop_scene
 from voxposer.places import PLACES
 
@@ -50,3 +50,39 @@ def test_region_masks_are_the_places_bands_and_halves_stay_halves(api: LMPAPI) -
     half = api.region_mask(table, "-y")  # an axis token: the table's centre split
     assert half[:, :, 0].sum() > corner[:, :, 0].sum()
     assert np.all(_world(api, np.argwhere(half)[::50])[:, 1] < 0.0)
+
+
+@pytest.mark.parametrize(("phrase", "place"), [
+    ("the far left corner of the table at the back", "back left corner of the table"),
+    ("at its far end", "back side of the table"),
+    ("the rear", "back side of the table"),
+    ("the near side", "front side of the table"),
+    ("top-left", "back left corner of the table"),
+    ("back-left", "back left corner of the table"),
+    ("leftmost", "left side of the table"),
+    ("upper right corner", "back right corner of the table"),
+    ("lower left corner", "front left corner of the table"),
+    ("the side nearest to the robot", "back side of the table"),
+])
+def test_words_people_use_land_on_the_named_places(api: LMPAPI, phrase: str, place: str) -> None:
+    table = api.detect("table")
+    p = _world(api, api.point_on(table, phrase))
+    assert np.linalg.norm(p[:2] - np.asarray(PLACES[place].point)) < 0.01
+    mask = api.region_mask(table, phrase)
+    assert np.array_equal(mask, api.region_mask(table, PLACES[place].words))
+    q = _world(api, api.point_beside(table, phrase, 6))
+    assert np.linalg.norm(q[:2] - np.asarray(PLACES[place].point)) < 0.01
+
+
+def test_side_errors_reach_the_program_with_the_accepted_words(api: LMPAPI) -> None:
+    table = api.detect("table")
+    with pytest.raises(SideError, match=r"'right' and 'left' \(y axis\)"):
+        api.point_on(table, "left right corner")
+    with pytest.raises(SideError, match=r"unknown side word 'northern'.*rear.*leftmost"):
+        api.region_mask(table, "northern edge")
+
+
+def test_cm2index_takes_any_single_direction_word(api: LMPAPI) -> None:
+    assert np.array_equal(api.cm2index(10, "rear"), api.cm2index(10, "back"))
+    assert np.array_equal(api.cm2index(10, "leftmost"), api.cm2index(10, "left"))
+    assert np.array_equal(api.cm2index(10, "Up"), api.cm2index(10, [0, 0, 1]))

@@ -4,8 +4,10 @@ Builds the seeded MuJoCo tabletop, runs planner → composer → value-map LMPs 
 ``execute`` with the configured language model (default: the bundled local model), shows the
 current sub-task, LLM calls, replanning rate and distance to the target, and writes to the output
 folder: ``rollout.mp4`` (one camera), ``subtask_NN.html`` (composed maps and planned path per
-sub-task), ``transcript.jsonl`` (prompts, responses, code, errors) and ``summary.json``. Exit
-status 0 only when every sub-task reached its target.
+sub-task), ``transcript.jsonl`` (prompts, responses, code, errors) and ``summary.json`` (with
+the ``scene`` it set up: which blocks, lines and open drawers, where, and why). The scene suits
+the instruction (:mod:`voxposer.cli.run_scene`); ``--drawer-open`` and ``--place`` override it.
+Exit status 0 only when every sub-task reached its target.
 """
 
 from __future__ import annotations
@@ -16,15 +18,20 @@ import logging
 import re
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from rich.console import Console
 from rich.live import Live
 from rich.table import Table
 
+from voxposer import tabletop
 from voxposer.cli.llm_options import add_llm_options
+from voxposer.cli.run_scene import CLOSE_OPENING_M, SceneRequest, allowed_range, choose_scene
 from voxposer.errors import VoxPoserError
+
+if TYPE_CHECKING:
+    from voxposer.envs.layout import SceneLayout
 
 log = logging.getLogger(__name__)
 console = Console(stderr=True)
@@ -49,8 +56,23 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
+    _add_scene_options(p)
     p.set_defaults(func=run)
     return p
+
+
+def _add_scene_options(parser: argparse.ArgumentParser) -> None:
+    """The ``scene`` option group of ``voxposer run``."""
+    group = parser.add_argument_group("scene")
+    group.add_argument(
+        "--drawer-open", action="append", default=[], metavar="top|middle|bottom[=M]",
+        help=f"start with this drawer open (repeatable; default {CLOSE_OPENING_M} m, at most "
+        f"{tabletop.DRAWER_TRAVEL} m); replaces the drawer the instruction implies")
+    (xlo, xhi), (ylo, yhi) = allowed_range("block")
+    group.add_argument(
+        "--place", action="append", default=[], metavar='"<colour> block=<x>,<y>"',
+        help="put a block (or line) at (x, y) on the table [m] (repeatable; front +x, left -y; "
+        f"a block's x in [{xlo:.3f}, {xhi:.3f}], y in [{ylo:.3f}, {yhi:.3f}])")
 
 
 def _out_dir(args: argparse.Namespace) -> Path:
@@ -119,30 +141,21 @@ def _progress_backend(backend: Any, progress: _Progress) -> Any:
     return ProgressBackend()
 
 
-#: how far [m] a drawer the instruction asks to close is open at the start.
-CLOSE_OPENING_M = 0.15
-
-
-def scene_layout(instruction: str) -> Any:
-    """A default scene for an instruction: every block and line it names, plus distractors; a
-    drawer it asks to close starts open (``CLOSE_OPENING_M``)."""
-    from voxposer.envs import COLORS
-    from voxposer.envs.layout import SceneLayout
-
-    text = instruction.lower().replace("grey", "gray")
-    named = {
-        kind: tuple(c for c in COLORS if re.search(rf"\b{c}\s+{kind}", text))
-        for kind in ("block", "line")
-    }
-    to_close = re.findall(r"\bclose the (top|middle|bottom) drawer", text)
-    return SceneLayout(
-        blocks=named["block"], lines=named["line"], extra_blocks=(3, 5), extra_lines=(2, 3),
-        drawer_openings={which: CLOSE_OPENING_M for which in to_close},
-    )
+def scene_layout(instruction: str, rng: np.random.Generator | None = None,
+                 request: SceneRequest | None = None) -> SceneLayout:
+    """The scene for an instruction (:func:`voxposer.cli.run_scene.choose_scene`): every block
+    and line it names, plus distractors; a drawer it asks to close starts open
+    (``CLOSE_OPENING_M``), one it asks to open starts closed; ``request`` overrides."""
+    return choose_scene(instruction, rng or np.random.default_rng(0), request).layout
 
 
 def run(args: argparse.Namespace) -> int:
-    """Carry out ``args.instruction``; returns the exit status (0 only on success)."""
+    """Carry out ``args.instruction``; returns the exit status (0 only on success).
+
+    Raises:
+        ConfigError: a bad ``--place`` / ``--drawer-open`` value, before anything runs.
+    """
+    request = SceneRequest.from_options(args.drawer_open, args.place)
     out = _out_dir(args)
     out.mkdir(parents=True, exist_ok=True)
     summary: dict[str, Any] = {
@@ -151,13 +164,14 @@ def run(args: argparse.Namespace) -> int:
         "success": False,
         "reason": "",
         "message": "",
+        "scene": None,
         "subtasks": [],
         "llm_calls": 0,
         "disturbances": [],
     }
     started = time.perf_counter()
     try:
-        _rollout(args, out, summary)
+        _rollout(args, request, out, summary)
     except VoxPoserError as err:  # setup failures (model, recordings, scene) end here too
         summary.update(success=False, reason=type(err).__name__, message=str(err))
     summary["timings_s"] = {
@@ -174,7 +188,8 @@ def run(args: argparse.Namespace) -> int:
     return 0 if summary["success"] else 1
 
 
-def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> None:
+def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
+             summary: dict[str, Any]) -> None:
     """Build the world and the LMPs, run the instruction, fill ``summary`` as it goes."""
     from voxposer.control import ExecutorConfig
     from voxposer.control.disturbance_schedule import DisturbanceSchedule, Disturber
@@ -186,8 +201,10 @@ def _rollout(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> No
     progress = _Progress(args.instruction)
     rng = np.random.default_rng(args.seed)
     world = TabletopWorld()
-    layout = scene_layout(args.instruction)
-    world.reset(rng, layout)
+    scene = choose_scene(args.instruction, rng, request)
+    layout = scene.layout
+    summary["scene"] = scene.describe()  # what was asked, should the reset fail
+    summary["scene"] = scene.describe(world.reset(rng, layout))
     backend = _progress_backend(_backend(args), progress)
     summary["model"] = backend.model
     transcript = Transcript(out / "transcript.jsonl")

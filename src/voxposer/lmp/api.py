@@ -2,8 +2,10 @@
 
 Everything here works in voxel coordinates of the scene's grid (about 1 cm voxels) and is lenient
 about its inputs: a voxel may be an int or float array, a list, or an object (its centre); object
-names match by synonym and substring. Direction words: front +x, back/behind −x, right +y,
-left −y, above/top/over/up +z, below/under/bottom/down −z (also "+x", "-y"…).
+names match by synonym and substring. Direction words: front +x, back/behind/rear −x, right +y,
+left −y, above/top/over/up +z, below/under/bottom/down −z (also "+x", "-y"…); the words people
+use for sides, ends and corners ("the far end", "the near side", "leftmost", "top-left corner",
+"nearest to the robot") are read by :mod:`voxposer.lmp.sides`, whose errors list every word.
 
 On the table, corners and sides are the named places of :mod:`voxposer.places` (the places
 the robot can reach, which the benchmark checks against): ``point_on(table, "back left corner")``
@@ -15,19 +17,21 @@ reads as the table's front side, ``cm`` above its surface.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable
 from typing import Any, Final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from voxposer.errors import OutOfWorkspaceError, VoxPoserError
+from voxposer.errors import OutOfWorkspaceError
 from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.scene import Scene
+from voxposer.lmp.sides import SideError, direction_sign, parse_side, splits_at_centre
 from voxposer.perception.names import match_name
 from voxposer.places import TABLE_MAX, TABLE_MIN, Place, place_for_signs
 from voxposer.valuemaps.maps import ValueMapAPI
+
+__all__ = ["DEFAULT_OFFSET_CM", "EDGE_INSET", "LMPAPI", "TABLE_MATCH_M", "SideError", "parse_side"]
 
 #: Distance [cm] between an object's face and the point ``point_beside`` returns by default.
 DEFAULT_OFFSET_CM: Final = 5.0
@@ -35,44 +39,8 @@ DEFAULT_OFFSET_CM: Final = 5.0
 EDGE_INSET: Final = 0.2
 #: A detected table whose extent matches the world's table within this [m] uses its named places.
 TABLE_MATCH_M: Final = 0.05
-_AXIS_TOKENS: Final = frozenset({"+x", "-x", "+y", "-y", "x", "y"})
-
-_WORDS: Final[dict[str, tuple[int, int]]] = {
-    "front": (0, 1), "+x": (0, 1), "x": (0, 1), "forward": (0, 1),
-    "back": (0, -1), "behind": (0, -1), "rear": (0, -1), "-x": (0, -1), "backward": (0, -1),
-    "right": (1, 1), "+y": (1, 1), "y": (1, 1),
-    "left": (1, -1), "-y": (1, -1),
-    "top": (2, 1), "above": (2, 1), "over": (2, 1), "up": (2, 1), "+z": (2, 1), "z": (2, 1),
-    "upper": (2, 1), "on": (2, 1),
-    "bottom": (2, -1), "below": (2, -1), "under": (2, -1), "beneath": (2, -1), "down": (2, -1),
-    "-z": (2, -1), "lower": (2, -1), "underneath": (2, -1),
-}
-_NEUTRAL: Final = {"center", "centre", "middle", "side", "of", "the", "corner", "face", "edge",
-                   "and", "", "part", "half", "region", "area", "surface"}
-
-
-class SideError(VoxPoserError, ValueError):
-    """A side/direction phrase has no word the API understands."""
-
-
-def parse_side(side: str) -> dict[int, int]:
-    """Axis → sign (+1/−1) for a phrase such as "back left" or "+y" (centre words allowed).
-
-    Raises:
-        SideError: a word is not a direction, or two words contradict on one axis.
-    """
-    out: dict[int, int] = {}
-    for word in re.split(r"[\s,/_]+|(?<=[a-z])-(?=[a-z])", str(side).strip().lower()):
-        if word in _NEUTRAL:
-            continue
-        if word not in _WORDS:
-            raise SideError(f"unknown side word {word!r} in {side!r}; use: "
-                            + ", ".join(sorted(set(_WORDS) - {"x", "y", "z"})) + " or 'center'")
-        axis, sign = _WORDS[word]
-        if out.get(axis, sign) != sign:
-            raise SideError(f"side {side!r} names both directions of one axis")
-        out[axis] = sign
-    return out
+#: Axis names ``cm2index`` hands to the grid as they are (an int count along an axis).
+NAMED_AXES: Final = frozenset({"x", "y", "z", "+x", "-x", "+y", "-y", "+z", "-z"})
 
 
 class LMPAPI:
@@ -111,7 +79,7 @@ class LMPAPI:
         gives the object's centre. Raises OutOfWorkspaceError when the point leaves the grid.
         """
         o = self._obj(obj)
-        signs = parse_side(side)
+        signs = parse_side(side, surface=o.name == "table", name=o.name)
         place = self._table_place(o, side, signs)
         if place is not None and 2 not in signs:
             return self.point_on(o, side, cm_above=cm)
@@ -127,7 +95,7 @@ class LMPAPI:
         "center"), raised ``cm_above`` centimetres. Side points lie 20% in from that edge; on the
         table, the named place's point (module docs)."""
         o = self._obj(obj)
-        signs = parse_side(where)
+        signs = parse_side(where, surface=True, name=o.name)
         lo, hi = o.aabb_world
         point = o.position_world.copy()
         place = self._table_place(o, where, signs)
@@ -146,7 +114,7 @@ class LMPAPI:
         footprint ("left side", "back left corner"), at every height ("top": above it only). On
         the table, a named place's region (module docs)."""
         o = self._obj(obj)
-        signs = parse_side(where)
+        signs = parse_side(where, surface=True, name=o.name)
         place = self._table_place(o, where, signs)
         if place is not None:
             nx, ny = self.grid.shape[:2]
@@ -174,8 +142,7 @@ class LMPAPI:
     def _table_place(self, o: ObjectView, where: str, signs: dict[int, int]) -> Place | None:
         """The named table place ``where`` picks on ``o`` (None: not the table, a "half", an axis
         token, no horizontal word, or a table unlike the world's)."""
-        words = set(re.split(r"[\s,/_]+", str(where).strip().lower()))
-        if o.name != "table" or "half" in words or words & _AXIS_TOKENS:
+        if o.name != "table" or splits_at_centre(where):
             return None
         lo, hi = o.aabb_world
         if max(abs(lo[0] - TABLE_MIN[0]), abs(lo[1] - TABLE_MIN[1]), abs(hi[0] - TABLE_MAX[0]),
@@ -199,11 +166,10 @@ class LMPAPI:
 
     def cm2index(self, cm: float, direction: Any) -> Any:
         """Voxels spanned by ``cm`` centimetres along ``direction`` ("x", "-y", "left", vector)."""
-        if isinstance(direction, str) and direction.strip().lower() in _WORDS \
-                and direction.strip().lower() not in ("x", "y", "z", "+x", "-x", "+y", "-y", "+z", "-z"):
-            axis, sign = _WORDS[direction.strip().lower()]
+        named = direction_sign(direction) if isinstance(direction, str) else None
+        if named is not None and direction.strip().lower() not in NAMED_AXES:
             vec = np.zeros(3)
-            vec[axis] = sign
+            vec[named[0]] = named[1]
             return self.grid.cm2index(cm, vec)
         return self.grid.cm2index(cm, direction)
 
