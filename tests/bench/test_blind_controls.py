@@ -15,8 +15,6 @@ from voxposer.bench.episode import EpisodeJob
 CONSTRAINED = [name for name, task in TASKS.items() if task.constraint is not None]
 #: task → why its layout does not bind yet (see the benchmark README notes).
 NOT_BINDING = {
-    "push_to_pos_avoid_obstacle": "the object planner's 3 cm obstacle margin alone keeps the "
-    "pushed block 7.2-9.4 cm from the obstacle, above the 7 cm clearance",
     "move_to_pos_staying_on_preposition": "'top of': from a 4 cm start the shortest way "
     "sometimes climbs over the block (seed 0) instead of passing beside it",
 }

@@ -278,7 +278,7 @@ def _push_avoid_obstacle(world) -> Iterator[Case]:
     trace = _trace(np.zeros_like(path), {obj: path, obstacle: mid + 0.1 * n})
     verdict = task.check(world, trace, attrs, TOL)
     yield "success", True, verdict
-    close = _trace(np.zeros_like(path), {obj: path, obstacle: mid + 0.04 * n})
+    close = _trace(np.zeros_like(path), {obj: path, obstacle: mid + 0.08 * n})
     yield 'near miss', False, task.check(world, close, attrs, TOL)
 
 

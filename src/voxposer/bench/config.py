@@ -53,7 +53,7 @@ class Tolerances:
         line_progress_m: … and advances at least this far along it [m].
         push_min_displacement_m: "push the [obj]": the block moves at least this far [m].
         obstacle_clearance_m: "staying away from [obstacle]": pushed block ↔ obstacle centre
-            distance at least this at all times [m].
+            distance at least this at all times [m] (4 cm between the blocks' faces).
         moved_max_m: blocks the task does not ask to move (obstacles, references) may move at
             most this far [m].
         held_distance_m: a grasped block's centre is within this distance of the end effector [m].
@@ -80,7 +80,7 @@ class Tolerances:
     line_band_m: float = 0.04
     line_progress_m: float = 0.14
     push_min_displacement_m: float = 0.05
-    obstacle_clearance_m: float = 0.07
+    obstacle_clearance_m: float = 0.09
     moved_max_m: float = 0.03
     held_distance_m: float = 0.05
     held_opening_m: tuple[float, float] = (0.035, 0.075)

@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from voxposer.control.execution_result import ExecutionResult, MapSource, StopReason, evaluate
+from voxposer.control.table_layer import onto_layer
 from voxposer.errors import PlanningError, UnreachablePoseError
 from voxposer.geometry.frames import TOP_DOWN_QUAT, pointat2quat
 from voxposer.perception.perceiver import Perceiver
@@ -59,6 +60,7 @@ def run_object(
     result = loop.start(name)
     axis = perceiver.sliding_axis(name)
     previous: NDArray[np.float64] | None = None
+    previous_left = 0.0
     stuck = 0
     for _ in range(cfg.max_pushes):
         t0 = time.perf_counter()
@@ -68,13 +70,19 @@ def run_object(
         values = {k: evaluate(v) for k, v in maps.items()}
         t2 = time.perf_counter()
         centre = np.asarray(entity["position"], dtype=np.float64)
+        affordance = values["affordance_map"]
+        occupancy = perceiver.scene_occupancy(name, holding=False, ignore_table=True)
+        layer = None if axis is not None else float(centre[2])  # a free object slides
+        if layer is not None:
+            affordance = onto_layer(perceiver.grid, affordance, layer)
         try:
             plan = loop.object_planner.plan(
-                values["affordance_map"],
+                affordance,
                 centre,
                 avoidance_map=values["avoidance_map"],
-                occupancy=perceiver.scene_occupancy(name, holding=False, ignore_table=True),
+                occupancy=occupancy,
                 entity_occupancy=entity["occupancy"],
+                layer_z=layer,
             )
         except PlanningError as err:
             return loop.finish(result, "planning_failed", str(err))
@@ -86,8 +94,12 @@ def run_object(
             return loop.finish(
                 result, "reached", f"{name} reached the target ({dist * 100:.1f} cm away)"
             )
+        left = _path_left(plan.trajectory.positions)
         if previous is not None:
-            moved = float((centre - previous) @ (offset / max(dist, 1e-9)))
+            # progress of a free object: along its planned path (a detour around what it must
+            # avoid first moves it sideways); of a sliding part: along its axis
+            moved = (float((centre - previous) @ (offset / max(dist, 1e-9))) if axis is not None
+                     else previous_left - left)
             stuck = stuck + 1 if moved < cfg.min_progress_m else 0
             if axis is not None and moved < -cfg.min_progress_m:
                 stuck = 0  # a part pulled back (e.g. a drawer reopened) is not at its end
@@ -107,7 +119,7 @@ def run_object(
                 contact=np.array([*action.contact[:2], centre[2]]),
                 distance=min(action.distance, dist + 0.005),
             )
-        previous = centre
+        previous, previous_left = centre, left
         try:
             top = float(np.asarray(entity["points"])[:, 2].max())
             _count_misses(result, push(robot, action, sideways=axis is not None, object_top=top))
@@ -124,6 +136,12 @@ def run_object(
     return loop.finish(
         result, "stalled", f"{cfg.max_pushes} pushes did not bring {name} to the target"
     )
+
+
+def _path_left(positions: NDArray[np.float64]) -> float:
+    """Length [m] of a planned path, shape (N, 3)."""
+    return float(np.linalg.norm(np.diff(positions, axis=0), axis=1).sum()) if len(positions) > 1 \
+        else 0.0
 
 
 def _stuck_stop(stuck: int, sliding: bool, name: str, dist: float

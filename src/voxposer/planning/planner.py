@@ -138,6 +138,7 @@ class PathPlanner:
         entity_occupancy: NDArray[np.bool_] | None = None,
         current_quat: ArrayLike = TOP_DOWN_QUAT,
         current_gripper: float = 0.0,
+        layer_z: float | None = None,
     ) -> Plan:
         """Plan from ``start`` [m] to the affordance target.
 
@@ -149,6 +150,8 @@ class PathPlanner:
             entity_occupancy: the moving entity's own voxels (not obstacles).
             current_quat: orientation (x, y, z, w) used where no rotation map is given.
             current_gripper: gripper state used where no gripper map is given.
+            layer_z: keep the path in the planning layer at this height [m] (an object that
+                slides on the table); None: anywhere in the workspace.
 
         Raises:
             InvalidMapError, EmptyAffordanceError, OutOfWorkspaceError: bad maps or start.
@@ -162,11 +165,8 @@ class PathPlanner:
             cost_cfg = replace(
                 cost_cfg, downsample=1, gaussian_truncate=4.0, obstacles_as_avoidance=True
             )
-        cmap = compose_cost_map(
-            self.grid, affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg
-        )
-        t1 = time.perf_counter()
-        path, path_cost, reached = self._find_path(cmap)
+        cmap, (path, path_cost, reached), t1 = self._compose_and_search(
+            affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg, layer_z)
         t2 = time.perf_counter()
         points = self._waypoints(cmap, path, reached)
 
@@ -206,6 +206,28 @@ class PathPlanner:
             "total": (t3 - t0) * 1e3,
         }
         return Plan(traj, cmap, path, reached, path_cost, cfg.method, timings)
+
+    def _compose_and_search(
+        self, affordance_map: NDArray, start: ArrayLike, avoidance_map: NDArray | None,
+        occupancy: NDArray[np.bool_] | None, entity_occupancy: NDArray[np.bool_] | None,
+        cost_cfg: CostMapConfig, layer_z: float | None,
+    ) -> tuple[CostMap, tuple[NDArray[np.int64], float, bool], float]:
+        """(cost map, its path search, the time the first map was composed): with the avoidance
+        map's core kept out, or — when that leaves no path — with the soft avoidance cost only."""
+        cmap = compose_cost_map(
+            self.grid, affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg,
+            layer_z=layer_z)
+        t1 = time.perf_counter()
+        try:
+            return cmap, self._find_path(cmap), t1
+        except (StartBlockedError, TargetUnreachableError):
+            if avoidance_map is None or cost_cfg.avoidance_keep_out <= 0:
+                raise
+        soft = replace(cost_cfg, avoidance_keep_out=0.0)
+        cmap = compose_cost_map(
+            self.grid, affordance_map, start, avoidance_map, occupancy, entity_occupancy, soft,
+            layer_z=layer_z)
+        return cmap, self._find_path(cmap), t1
 
     def _find_path(self, cmap: CostMap) -> tuple[NDArray[np.int64], float, bool]:
         """(voxel path, its cost, whether it reaches a target) by the configured method: the

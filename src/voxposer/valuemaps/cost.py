@@ -21,6 +21,7 @@ from scipy import ndimage
 
 from voxposer.errors import ConfigError, EmptyAffordanceError, OutOfWorkspaceError
 from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.valuemaps.keep_out import keep_out
 from voxposer.valuemaps.maps import check_value_map
 from voxposer.valuemaps.voxel_ops import (
     ball,
@@ -49,6 +50,10 @@ class CostMapConfig:
         downsample: fine voxels per coarse planning voxel along each axis (1 = full resolution).
         obstacles_as_avoidance: also add scene obstacles to the avoidance map before smoothing,
             as the paper's release did (its greedy planner had no hard obstacles).
+        avoidance_keep_out: voxels whose avoidance value is at least this fraction of the
+            map's maximum are also obstacles (:mod:`voxposer.valuemaps.keep_out`; the planner
+            falls back to the soft cost alone when that leaves no path); 0 = the paper's soft
+            cost only.
     """
 
     affordance_weight: float = 2.0
@@ -61,6 +66,7 @@ class CostMapConfig:
     obstacle_margin_cm: float = 0.0
     downsample: int = 2
     obstacles_as_avoidance: bool = False
+    avoidance_keep_out: float = 0.5
 
     def __post_init__(self) -> None:
         for name in (
@@ -70,6 +76,7 @@ class CostMapConfig:
             "target_clear_radius_cm",
             "entity_clear_radius_cm",
             "obstacle_margin_cm",
+            "avoidance_keep_out",
         ):
             value = getattr(self, name)
             if not np.isfinite(value) or value < 0:
@@ -135,6 +142,8 @@ def compose_cost_map(
     occupancy: NDArray[np.bool_] | None = None,
     entity_occupancy: NDArray[np.bool_] | None = None,
     config: CostMapConfig | None = None,
+    *,
+    layer_z: float | None = None,
 ) -> CostMap:
     """Build the planner's cost map from value maps and scene occupancy.
 
@@ -147,6 +156,8 @@ def compose_cost_map(
             :meth:`VoxelGrid.points_to_occupancy`). None = free space.
         entity_occupancy: voxels of the moving entity itself, removed from ``occupancy``.
         config: parameters; paper defaults when None.
+        layer_z: if given, every planning voxel outside the layer at this height [m] is an
+            obstacle (an object sliding on the table stays at its height).
 
     Raises:
         InvalidMapError: a map with the wrong shape, dtype or NaN/inf values.
@@ -172,7 +183,9 @@ def compose_cost_map(
     affordance_cost = normalise(target_distance.copy())
 
     fine_obstacles = _scene_obstacles(grid, occupancy, entity_occupancy, start_m, fine_targets, cfg)
-    avoidance_cost = _avoidance_cost(grid, coarse.shape, avoidance_map, fine_obstacles, cfg)
+    avoid = (None if avoidance_map is None
+             else np.maximum(check_value_map("avoidance", avoidance_map, grid), 0))
+    avoidance_cost = _avoidance_cost(coarse.shape, avoid, fine_obstacles, cfg)
     cost = cfg.affordance_weight * affordance_cost
     if cfg.avoidance_weight > 0:
         cost += cfg.avoidance_weight * avoidance_cost
@@ -184,6 +197,15 @@ def compose_cost_map(
         clear_sphere(obstacles, coarse, start_m, cfg.entity_clear_radius_cm)
         for target in _target_representatives(grid, fine_targets):
             clear_sphere(obstacles, coarse, target, cfg.target_clear_radius_cm)
+    if avoid is not None and cfg.avoidance_keep_out > 0:
+        core = keep_out(grid, avoid, start_m, cfg.avoidance_keep_out, f)
+        for target in _target_representatives(grid, fine_targets):
+            clear_sphere(core, coarse, target, cfg.target_clear_radius_cm)
+        obstacles |= core
+    if layer_z is not None:
+        kz = int(coarse.world_to_voxel([start_m[0], start_m[1], layer_z], clip=True)[2])
+        obstacles[:, :, :kz] = True
+        obstacles[:, :, kz + 1:] = True
     obstacles &= ~target_mask
     return CostMap(
         grid=coarse,
@@ -217,15 +239,11 @@ def _fine_targets(aff: NDArray, grid: VoxelGrid, threshold: float) -> NDArray[np
     return np.stack(np.unravel_index(flat, grid.shape), axis=1).astype(np.int64)
 
 
-def _avoidance_cost(grid: VoxelGrid, coarse_shape: tuple[int, ...], avoidance_map: NDArray | None,
+def _avoidance_cost(coarse_shape: tuple[int, ...], avoid: NDArray | None,
                     fine_obstacles: NDArray[np.bool_], cfg: CostMapConfig) -> NDArray[np.float32]:
-    """The avoidance term on the planning grid: pooled, Gaussian-smoothed, normalised (zeros
-    when nothing is to be avoided); scene obstacles join it with ``obstacles_as_avoidance``."""
-    avoid = (
-        None
-        if avoidance_map is None
-        else np.maximum(check_value_map("avoidance", avoidance_map, grid), 0)
-    )
+    """The avoidance term on the planning grid from the validated, non-negative avoidance map:
+    pooled, Gaussian-smoothed, normalised (zeros when nothing is to be avoided); scene obstacles
+    join it with ``obstacles_as_avoidance``."""
     if cfg.obstacles_as_avoidance and fine_obstacles.any():
         solid = fine_obstacles.astype(np.float32)
         avoid = solid if avoid is None else np.maximum(avoid, solid)

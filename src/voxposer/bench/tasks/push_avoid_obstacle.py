@@ -1,17 +1,14 @@
 """Task "push the [obj] to the [pos] while staying away from [obstacle]" (Object Interactions).
 
 [obstacle] takes its values from the block list (App. A.5 gives no separate list). Reset: as
-"push the [obj] to the [pos]", with the obstacle block beside the middle of the straight push,
-7–10 cm off it (closer, the pushing primitive's
-straight approach moves can brush it). Success: the block ends at the place, its centre stays at least
-``obstacle_clearance_m`` from the obstacle's centre the whole time, and the obstacle moves at most
-``moved_max_m``.
+"push the [obj] to the [pos]", with the obstacle block on the straight push, its centre at most
+2 cm off the middle of it (``OBSTACLE_OFFSET_M``). Success: the block ends at the place, its
+centre stays at least ``obstacle_clearance_m`` (9 cm, 4 cm between the faces) from the
+obstacle's centre the whole time, and the obstacle moves at most ``moved_max_m``.
 
-Does not bind yet (measured on dev seeds): a push that ignores the obstacle keeps 7.2–9.4 cm
-from it by the object planner's collision margin alone, while the reference push with a 15 cm
-avoidance map kept only 7.7–10.9 cm (the planner's avoidance cost is soft), so no clearance
-threshold separates the two; with the obstacle 7–10 cm off the push the reference is robust and
-the blind control passes as well.
+Binds (measured on dev seeds 0–7, both splits): a push that ignores the obstacle goes around it
+by the object planner's collision margin alone and keeps 7.4–8.6 cm from it; the reference,
+whose 10 cm avoidance map's core the planner keeps out of, keeps 9.7–14.4 cm.
 """
 
 from __future__ import annotations
@@ -30,6 +27,9 @@ from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 from voxposer.places import get_place
 
+#: how far the obstacle's centre sits off the middle of the straight push [m].
+OBSTACLE_OFFSET_M = (0.0, 0.02)
+
 
 class PushAvoidObstacle(BenchTask):
     name = "push_to_pos_avoid_obstacle"
@@ -45,7 +45,7 @@ class PushAvoidObstacle(BenchTask):
         start = push_start(rng, get_place(attrs["pos"]), Tolerances())
         half = 0.5 * float(np.hypot(target[0] - start[0], target[1] - start[1]))
         side = 1.0 if rng.uniform() < 0.5 else -1.0
-        obstacle = toward(start, target, half, side * float(rng.uniform(0.07, 0.10)))
+        obstacle = toward(start, target, half, side * float(rng.uniform(*OBSTACLE_OFFSET_M)))
         return block_layout({attrs["obj"]: start, attrs["obstacle"]: obstacle})
 
     def keep_clear(self, world: Any, attrs: dict[str, str]
