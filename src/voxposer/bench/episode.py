@@ -10,12 +10,13 @@ from __future__ import annotations
 import logging
 import time
 import traceback
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.disturb import EpisodeDisturbance
 from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
+from voxposer.bench.paraphrases import paraphrase
 from voxposer.bench.protocol import ADHOC
 from voxposer.bench.task import reset_episode
 from voxposer.bench.tasks import get_task
@@ -38,7 +39,8 @@ class EpisodeJob:
         llm: "reference" (hand-written programs), "reference-blind" (their constraint-blind
             control) or a backend kind of ``LLMConfig``.
         max_time_s: simulated time limit of each ``execute`` call [s].
-        instructions: "seen", or "unseen" (the task's few-shot examples held out of the prompts).
+        instructions: "seen", "unseen" (the task's few-shot examples held out of the prompts)
+            or "paraphrased" (a reworded instruction: :mod:`voxposer.bench.paraphrases`).
         seed_set: the seed set ``seed`` comes from ("dev", "test", or "adhoc").
         disturbed: with the paper's disturbances (:mod:`voxposer.bench.disturb`).
         video: "none", "failures" or "all" (:mod:`voxposer.bench.videos`).
@@ -157,6 +159,10 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
     try:
         task, method = get_task(job.task), get_method(job.method)
         setup = reset_episode(task, world, job.split, job.seed, tol)
+        if job.instructions == "paraphrased":  # test phrasings on test seeds only
+            setup = replace(setup, instruction=paraphrase(
+                task.name, setup.attributes, "test" if job.seed_set == "test" else "dev",
+                job.seed))
         rec.instruction, rec.attributes = setup.instruction, dict(setup.attributes)
         t1 = time.perf_counter()
         if job.llm in REFERENCE_LLMS:

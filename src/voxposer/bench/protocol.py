@@ -55,7 +55,10 @@ SEED_SETS: Final[dict[str, SeedSet]] = {s.name: s for s in (DEV_SEEDS, TEST_SEED
 ADHOC: Final = "adhoc"
 
 #: the values ``--instructions`` accepts.
-INSTRUCTION_SPLITS: Final[tuple[str, ...]] = ("seen", "unseen")
+INSTRUCTION_SPLITS: Final[tuple[str, ...]] = ("seen", "unseen", "paraphrased")
+#: instruction split → what reports append to a group's name.
+INSTRUCTION_LABELS: Final[dict[str, str]] = {
+    "seen": "", "unseen": ", unseen instructions", "paraphrased": ", paraphrased instructions"}
 
 
 def get_seed_set(name: str) -> SeedSet:

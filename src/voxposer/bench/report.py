@@ -18,6 +18,7 @@ from typing import Any
 from voxposer.bench.config import Tolerances
 from voxposer.bench.methods import REFERENCE, REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.paper import TABLE2, paper_category_means, paper_rate
+from voxposer.bench.protocol import INSTRUCTION_LABELS
 from voxposer.bench.report_disturbed import disturbed_lines
 from voxposer.bench.report_failures import failure_lines
 from voxposer.bench.report_tables import control_lines, provenance_lines, table2_lines
@@ -56,7 +57,7 @@ def group_label(method: str, llm: str, instructions: str = "seen") -> str:
     """How a report names a (method, llm, instruction split) group; reference programs and
     their constraint-blind control are always labelled."""
     label = f"{get_method(method).label} — {REFERENCE_LABELS.get(llm, llm)}"
-    return label + (", unseen instructions" if instructions == "unseen" else "")
+    return label + INSTRUCTION_LABELS.get(instructions, f", {instructions} instructions")
 
 
 def tabulate(records: Iterable[dict[str, Any]]

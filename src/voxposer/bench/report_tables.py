@@ -15,7 +15,7 @@ from typing import Any, Final
 
 from voxposer.bench.methods import REFERENCE, REFERENCE_BLIND, REFERENCE_LLMS
 from voxposer.bench.paper import TABLE2
-from voxposer.bench.protocol import ADHOC, SEED_SETS
+from voxposer.bench.protocol import ADHOC, INSTRUCTION_LABELS, SEED_SETS
 from voxposer.bench.results import code_versions
 from voxposer.bench.tasks import TASKS
 
@@ -86,7 +86,7 @@ def _call_totals(records: list[dict[str, Any]]) -> str:
 
 def _column_name(llm: str, instructions: str) -> str:
     name = {REFERENCE: "reference", REFERENCE_BLIND: "blind"}.get(llm, f"model: {llm}")
-    return name + (", unseen instructions" if instructions == "unseen" else "")
+    return name + INSTRUCTION_LABELS.get(instructions, f", {instructions} instructions")
 
 
 def control_lines(cells: Cells, method: str, method_label: str) -> list[str]:

@@ -119,6 +119,10 @@ class BenchConfig:
             raise ConfigError(f"instructions='unseen' holds few-shot examples out of the LLM's "
                               f"prompts; llm={self.llm!r} replays hand-written programs and "
                               "has no prompts. Use instructions='seen', or an LLM backend")
+        if self.instructions == "paraphrased" and self.llm in REFERENCE_LLMS:
+            raise ConfigError(f"instructions='paraphrased' rewords each task's instruction; "
+                              f"llm={self.llm!r} replays programs written for the templates. "
+                              "Use instructions='seen', or an LLM backend")
         if self.instructions == "unseen":
             from voxposer.lmp.prompt import check_fold
 

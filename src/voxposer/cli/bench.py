@@ -61,7 +61,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    help="ad-hoc run: first episode seed (instead of --seeds)")
     p.add_argument("--instructions", default="seen",
                    help=f"instruction split, one of: {', '.join(INSTRUCTION_SPLITS)} (unseen: "
-                   "each task's few-shot examples are held out of every prompt; LLMs only)")
+                   "each task's few-shot examples are held out of every prompt; paraphrased: "
+                   "reworded instructions, dev phrasings on dev seeds and test phrasings on test "
+                   "seeds; LLMs only)")
     p.add_argument("--method", default="voxposer", help=f"one of: {', '.join(METHODS)}")
     add_llm_options(p, extra_choices=REFERENCE_LLMS, default="default", record=False,
                     extra_help="; 'reference' = hand-written reference programs (no LLM); "
@@ -112,7 +114,7 @@ def _default_out(cfg: BenchConfig) -> str:
     name = f"{cfg.method}-{cfg.llm}"
     if cfg.seed_set != "dev":
         name += f"-{cfg.seed_set}"
-    return name + ("-unseen-instructions" if cfg.instructions == "unseen" else "")
+    return name + ("" if cfg.instructions == "seen" else f"-{cfg.instructions}-instructions")
 
 
 def run(args: argparse.Namespace) -> int:
