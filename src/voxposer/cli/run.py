@@ -188,6 +188,22 @@ def run(args: argparse.Namespace) -> int:
     return 0 if summary["success"] else 1
 
 
+def _subtask_summary(record: Any) -> dict[str, Any]:
+    """One executed sub-task as ``summary.json`` lists it."""
+    r = record.result
+    return {
+        "subtask": record.subtask,
+        "success": r.success,
+        "reason": r.reason,
+        "message": r.message,
+        "replans": r.replans,
+        "replan_hz": round(r.replan_hz, 2),
+        "sim_time_s": round(r.sim_time, 2),
+        "final_distance_m": round(r.final_distance, 4),
+        "picture": record.picture.name if record.picture else None,
+    }
+
+
 def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
              summary: dict[str, Any]) -> None:
     """Build the world and the LMPs, run the instruction, fill ``summary`` as it goes."""
@@ -248,20 +264,7 @@ def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
         if recorder is not None:
             recorder.close()
         backend.close()
-        summary["subtasks"] = [
-            {
-                "subtask": r.subtask,
-                "success": r.result.success,
-                "reason": r.result.reason,
-                "message": r.result.message,
-                "replans": r.result.replans,
-                "replan_hz": round(r.result.replan_hz, 2),
-                "sim_time_s": round(r.result.sim_time, 2),
-                "final_distance_m": round(r.result.final_distance, 4),
-                "picture": r.picture.name if r.picture else None,
-            }
-            for r in executor.records
-        ]
+        summary["subtasks"] = [_subtask_summary(r) for r in executor.records]
         summary["llm_calls"] = runtime.llm_calls
         summary["timings_s"] = {
             "llm": round(

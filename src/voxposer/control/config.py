@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass, field
 
 from voxposer.errors import ConfigError
-from voxposer.planning.planner import PlannerConfig
+from voxposer.planning.planner_config import PlannerConfig
 from voxposer.planning.push_primitive import PushConfig
 from voxposer.valuemaps.cost import CostMapConfig
 

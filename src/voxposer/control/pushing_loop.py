@@ -70,20 +70,8 @@ def run_object(
         values = {k: evaluate(v) for k, v in maps.items()}
         t2 = time.perf_counter()
         centre = np.asarray(entity["position"], dtype=np.float64)
-        affordance = values["affordance_map"]
-        occupancy = perceiver.scene_occupancy(name, holding=False, ignore_table=True)
-        layer = None if axis is not None else float(centre[2])  # a free object slides
-        if layer is not None:
-            affordance = onto_layer(perceiver.grid, affordance, layer)
         try:
-            plan = loop.object_planner.plan(
-                affordance,
-                centre,
-                avoidance_map=values["avoidance_map"],
-                occupancy=occupancy,
-                entity_occupancy=entity["occupancy"],
-                layer_z=layer,
-            )
+            plan = _plan_object(loop, name, entity, values, sliding=axis is not None)
         except PlanningError as err:
             return loop.finish(result, "planning_failed", str(err))
         offset = plan.target - centre
@@ -135,6 +123,26 @@ def run_object(
             )
     return loop.finish(
         result, "stalled", f"{cfg.max_pushes} pushes did not bring {name} to the target"
+    )
+
+
+def _plan_object(loop: LoopHost, name: str, entity: Any, values: dict[str, Any], *,
+                 sliding: bool) -> Any:
+    """The object's path from its detected centre to the affordance target (its own points and
+    the table are no obstacles); a free object's path stays at its height, its target brought
+    there (:mod:`voxposer.control.table_layer`)."""
+    centre = np.asarray(entity["position"], dtype=np.float64)
+    affordance = values["affordance_map"]
+    layer = None if sliding else float(centre[2])
+    if layer is not None:
+        affordance = onto_layer(loop.perceiver.grid, affordance, layer)
+    return loop.object_planner.plan(
+        affordance,
+        centre,
+        avoidance_map=values["avoidance_map"],
+        occupancy=loop.perceiver.scene_occupancy(name, holding=False, ignore_table=True),
+        entity_occupancy=entity["occupancy"],
+        layer_z=layer,
     )
 
 

@@ -39,6 +39,7 @@ class SensingMixin:
     _gripper: float
     _ee_site: int
     _finger_qpos: NDArray[np.int64]
+    _arm_qpos: NDArray[np.int64]
 
     # ----------------------------------------------------------------- names
     @property
@@ -106,6 +107,25 @@ class SensingMixin:
             self._renderer = None
 
     # --------------------------------------------------------------- state
+    @property
+    def control_period(self) -> float:
+        """Duration of one :meth:`step` [s] (``ControllerConfig.control_dt``)."""
+        return float(self.config.controller.control_dt)
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return float(self.data.time)
+
+    @property
+    def base_position(self) -> NDArray[np.float64]:
+        """Position of the robot's base [m], shape (3,)."""
+        return np.asarray(self.config.robot_base, dtype=np.float64)
+
+    def joint_positions(self) -> NDArray[np.float64]:
+        """The seven arm joint angles [rad], shape (7,)."""
+        return np.asarray(self.data.qpos[self._arm_qpos], dtype=np.float64).copy()
+
     def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """End-effector position [m], shape (3,), and orientation (x, y, z, w)."""
         quat = np.zeros(4)

@@ -165,26 +165,6 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
             raise LayoutError(f"the start pose {position} was missed by "
                               f"{result.position_error * 100:.1f} cm")
 
-    # ------------------------------------------------------ robot protocol
-    @property
-    def control_period(self) -> float:
-        """Duration of one :meth:`step` [s] (``ControllerConfig.control_dt``)."""
-        return float(self.config.controller.control_dt)
-
-    @property
-    def time(self) -> float:
-        """Simulated time [s]."""
-        return float(self.data.time)
-
-    @property
-    def base_position(self) -> NDArray[np.float64]:
-        """Position of the robot's base [m], shape (3,)."""
-        return np.asarray(self.config.robot_base, dtype=np.float64)
-
-    def joint_positions(self) -> NDArray[np.float64]:
-        """The seven arm joint angles [rad], shape (7,)."""
-        return np.asarray(self.data.qpos[self._arm_qpos], dtype=np.float64).copy()
-
     # -------------------------------------------------------------- physics
     def advance(self, nsteps: int) -> None:
         """Step the physics ``nsteps`` times with the current commands (and any active force).

@@ -1,6 +1,7 @@
 """Motion planning over value maps: global path search, smoothing, 6-DoF trajectories."""
 
-from voxposer.planning.planner import PathPlanner, Plan, PlannerConfig
+from voxposer.planning.planner import PathPlanner, Plan
+from voxposer.planning.planner_config import PlannerConfig
 from voxposer.planning.search import SearchResult, astar, greedy_descent
 from voxposer.planning.trajectory import Trajectory, Waypoint
 

@@ -10,84 +10,20 @@ closing the gripper (a grasp) ends with a straight approach along the hand's app
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field, replace
-from typing import Literal
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from voxposer.errors import ConfigError, StartBlockedError, TargetUnreachableError
+from voxposer.errors import StartBlockedError, TargetUnreachableError
 from voxposer.geometry.frames import TOP_DOWN_QUAT
 from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.planning.planner_config import PlanMethod, PlannerConfig
 from voxposer.planning.search import astar, greedy_descent
 from voxposer.planning.trajectory import Trajectory, collides, extract_trajectory, resample, smooth
 from voxposer.valuemaps.cost import CostMap, CostMapConfig, compose_cost_map
 from voxposer.valuemaps.maps import check_value_map
-
-PlanMethod = Literal["global", "greedy"]
-
-
-@dataclass(frozen=True)
-class PlannerConfig:
-    """Planner parameters.
-
-    Attributes:
-        method: ``"global"`` (A*, default) or ``"greedy"`` (the paper's release, for comparison).
-        cost: cost-map composition parameters (paper values by default).
-        length_weight: cost per voxel travelled, added to the cost map (keeps paths short).
-        waypoint_spacing_m: distance between consecutive waypoints [m].
-        savgol_window: Savitzky–Golay window [waypoints], odd.
-        savgol_polyorder: Savitzky–Golay polynomial order.
-        greedy_radius: neighbourhood half-size of the greedy mode [voxels] (release: 2).
-        greedy_max_steps: step limit of the greedy mode (release: 300).
-        grasp_approach_m: a path that ends closing the gripper (a grasp) ends with a straight
-            approach along the hand's approach axis from this far before the target [m] (top-down:
-            a vertical descent); 0 disables it.
-        grasp_approach_radius_m: path points within this distance of that approach line and
-            less than ``grasp_approach_m`` before the target are replaced by it [m]; the open
-            fingers span ≈ 9 cm, so a slanted approach within it catches the object's edge and
-            tilts it.
-    """
-
-    method: PlanMethod = "global"
-    cost: CostMapConfig = field(default_factory=CostMapConfig)
-    length_weight: float = 0.1
-    waypoint_spacing_m: float = 0.01
-    savgol_window: int = 11
-    savgol_polyorder: int = 3
-    greedy_radius: int = 2
-    greedy_max_steps: int = 300
-    grasp_approach_m: float = 0.06
-    grasp_approach_radius_m: float = 0.06
-
-    def __post_init__(self) -> None:
-        if self.method not in ("global", "greedy"):
-            raise ConfigError(
-                f"PlannerConfig.method must be 'global' or 'greedy'; got {self.method!r}"
-            )
-        if not np.isfinite(self.length_weight) or self.length_weight <= 0:
-            raise ConfigError(
-                f"PlannerConfig.length_weight must be > 0; got {self.length_weight!r}"
-            )
-        if not np.isfinite(self.waypoint_spacing_m) or not 1e-4 <= self.waypoint_spacing_m <= 0.5:
-            raise ConfigError(
-                f"PlannerConfig.waypoint_spacing_m must be in [0.0001, 0.5] m; got {self.waypoint_spacing_m!r}"
-            )
-        if self.savgol_window < 1 or self.savgol_window % 2 == 0:
-            raise ConfigError(
-                f"PlannerConfig.savgol_window must be a positive odd int; got {self.savgol_window!r}"
-            )
-        if not 0 <= self.savgol_polyorder < max(self.savgol_window, 1):
-            raise ConfigError(
-                f"PlannerConfig.savgol_polyorder must be in [0, savgol_window); got {self.savgol_polyorder!r}"
-            )
-        if self.greedy_radius < 1 or self.greedy_max_steps < 1:
-            raise ConfigError("PlannerConfig.greedy_radius and greedy_max_steps must be >= 1")
-        for name in ("grasp_approach_m", "grasp_approach_radius_m"):
-            value = getattr(self, name)
-            if not np.isfinite(value) or value < 0:
-                raise ConfigError(f"PlannerConfig.{name} must be >= 0 [m]; got {value!r}")
 
 
 @dataclass(frozen=True)

@@ -17,14 +17,12 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import ndimage
 
 from voxposer.errors import ConfigError, EmptyAffordanceError, OutOfWorkspaceError
 from voxposer.geometry.voxel_grid import VoxelGrid
-from voxposer.valuemaps.keep_out import keep_out
 from voxposer.valuemaps.maps import check_value_map
+from voxposer.valuemaps.obstacles import planning_obstacles, target_representatives
 from voxposer.valuemaps.voxel_ops import (
-    ball,
     clear_sphere,
     distance_to,
     normalise,
@@ -190,22 +188,10 @@ def compose_cost_map(
     if cfg.avoidance_weight > 0:
         cost += cfg.avoidance_weight * avoidance_cost
 
-    obstacles = pool_max(fine_obstacles, f)
-    if cfg.obstacle_margin_cm > 0:  # grown on the planning grid (cheap), then cleared again
-        radius = cfg.obstacle_margin_cm / 100.0 / coarse.resolution
-        obstacles = ndimage.binary_dilation(obstacles, structure=ball(radius))
-        clear_sphere(obstacles, coarse, start_m, cfg.entity_clear_radius_cm)
-        for target in _target_representatives(grid, fine_targets):
-            clear_sphere(obstacles, coarse, target, cfg.target_clear_radius_cm)
-    if avoid is not None and cfg.avoidance_keep_out > 0:
-        core = keep_out(grid, avoid, start_m, cfg.avoidance_keep_out, f)
-        for target in _target_representatives(grid, fine_targets):
-            clear_sphere(core, coarse, target, cfg.target_clear_radius_cm)
-        obstacles |= core
-    if layer_z is not None:
-        kz = int(coarse.world_to_voxel([start_m[0], start_m[1], layer_z], clip=True)[2])
-        obstacles[:, :, :kz] = True
-        obstacles[:, :, kz + 1:] = True
+    obstacles = planning_obstacles(
+        grid, coarse, fine_obstacles, fine_targets, start_m, avoid, layer_z,
+        downsample=f, margin_cm=cfg.obstacle_margin_cm, entity_clear_cm=cfg.entity_clear_radius_cm,
+        target_clear_cm=cfg.target_clear_radius_cm, keep_out_fraction=cfg.avoidance_keep_out)
     obstacles &= ~target_mask
     return CostMap(
         grid=coarse,
@@ -278,22 +264,7 @@ def _scene_obstacles(
             )
         obstacles &= ~ent
     clear_sphere(obstacles, grid, start, cfg.entity_clear_radius_cm)
-    for target in _target_representatives(grid, fine_targets):
+    for target in target_representatives(grid, fine_targets):
         clear_sphere(obstacles, grid, target, cfg.target_clear_radius_cm)
     obstacles[fine_targets[:, 0], fine_targets[:, 1], fine_targets[:, 2]] = False
     return obstacles
-
-
-def _target_representatives(
-    grid: VoxelGrid, fine_targets: NDArray[np.int64], limit: int = 64
-) -> NDArray:
-    """World points [m], shape (<= limit, 3), spread over the target voxels, for clearing.
-
-    A large target region (e.g. "the left side of the table") needs no clearing everywhere: the
-    target voxels themselves are always free, and clearing around a sample suffices to let the
-    path in.
-    """
-    if len(fine_targets) <= limit:
-        return grid.voxel_to_world(fine_targets)
-    pick = np.linspace(0, len(fine_targets) - 1, limit).astype(int)
-    return grid.voxel_to_world(fine_targets[pick])
