@@ -275,4 +275,7 @@ def _describe(exc: BaseException) -> str:
         exc = exc.original
     if isinstance(exc, SyntaxError) and not isinstance(exc, SandboxError):
         return f"SyntaxError: {exc.msg} (line {exc.lineno}: {(exc.text or '').strip()})"
+    if isinstance(exc, ValueError) and "read-only" in str(exc):
+        return (f"{type(exc).__name__}: {exc} (a detected object's arrays cannot be changed: "
+                "copy one first, e.g. `p = obj.position.copy()`, and change the copy)")
     return f"{type(exc).__name__}: {exc}"
