@@ -30,6 +30,7 @@ ENV_VARS: dict[str, str] = {
     "VOXPOSER_LLM_MAX_TOKENS": "max_tokens",
     "VOXPOSER_LLM_TIMEOUT": "timeout",
     "VOXPOSER_LLM_MAX_RETRIES": "max_retries",
+    "VOXPOSER_LLM_TOTAL_TIMEOUT": "total_timeout",
     "VOXPOSER_LLM_N_CTX": "n_ctx",
     "VOXPOSER_LLM_N_THREADS": "n_threads",
     "VOXPOSER_LLM_CACHE": "cache",
@@ -110,6 +111,8 @@ class LLMConfig:
         max_tokens: overrides every request's generation limit [tokens] when set.
         timeout: one HTTP request's limit [s] ("openai").
         max_retries: retries after the first attempt on connection errors, timeouts, 429, 5xx.
+        total_timeout: time budget of one completion, every attempt and wait included [s]
+            ("openai"); None = bounded by ``timeout`` × (``max_retries`` + 1) plus the waits.
         n_ctx: context window of in-process models [tokens].
         n_threads: CPU threads of in-process models; None = the cores available.
         cache: keep a persistent sqlite cache of responses (keyed by backend, model, request).
@@ -131,6 +134,7 @@ class LLMConfig:
     max_tokens: int | None = None
     timeout: float = 120.0
     max_retries: int = 3
+    total_timeout: float | None = None
     n_ctx: int = 4096
     n_threads: int | None = None
     cache: bool = True
@@ -159,6 +163,8 @@ class LLMConfig:
             raise ConfigError(f"timeout={self.timeout} s must be > 0")
         if self.max_retries < 0:
             raise ConfigError(f"max_retries={self.max_retries} must be >= 0")
+        if self.total_timeout is not None and not self.total_timeout > 0:
+            raise ConfigError(f"total_timeout={self.total_timeout} s must be > 0 (or None)")
         if self.n_ctx < 512:
             raise ConfigError(f"n_ctx={self.n_ctx} tokens must be >= 512")
         if self.n_threads is not None and self.n_threads < 1:

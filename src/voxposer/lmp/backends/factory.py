@@ -65,7 +65,7 @@ def _base_backend(config: LLMConfig) -> LLMBackend:
             base_url=config.base_url,
             api_key=resolve_api_key(config),
             timeout=config.timeout,
-            retry=RetryPolicy(max_retries=config.max_retries),
+            retry=RetryPolicy(max_retries=config.max_retries, max_elapsed=config.total_timeout),
         )
     if config.backend == "replay":
         from voxposer.lmp.backends.replay import ReplayBackend
