@@ -58,6 +58,31 @@ class UnknownObjectError(VoxPoserError, KeyError):
         return f"unknown object {self.name!r}; the scene has: {', '.join(self.known)}"
 
 
+class UnresolvedObjectError(UnknownObjectError):
+    """A program's object query names no object of the scene, and the program gave up on it
+    (after its self-correction); enclosing programs pass it on without retrying, so it reaches
+    the user as it is.
+
+    Attributes:
+        name: the object name (or query) that matched nothing.
+        known: the scene's object names, sorted.
+        lmp: the LMP that gave up, e.g. "parse_query_obj".
+        query: the query it was given.
+        attempts: one ``{"code": str, "error": str}`` per attempt, in order.
+    """
+
+    def __init__(self, name: str, known: Iterable[str], *, lmp: str, query: str,
+                 attempts: list[dict[str, str]]) -> None:
+        super().__init__(name, known)
+        self.lmp = lmp
+        self.query = query
+        self.attempts = list(attempts)
+
+    def __str__(self) -> str:
+        return (f"{super().__str__()} ({self.lmp}({self.query!r}) gave up after "
+                f"{len(self.attempts)} attempt(s))")
+
+
 class MissingAssetError(VoxPoserError, FileNotFoundError):
     """A model asset (e.g. the Panda meshes from the robosuite wheel) cannot be found."""
 
@@ -115,6 +140,11 @@ class InvalidActionError(VoxPoserError, ValueError):
 
 class SimulationUnstableError(VoxPoserError):
     """The physics state became NaN/inf or diverged; call ``reset`` before stepping again."""
+
+
+class WorkerCrashedError(VoxPoserError):
+    """A benchmark worker process died while running an episode (a segfault, an out-of-memory
+    kill): its episode is recorded as crashed and the worker replaced."""
 
 
 class LLMError(VoxPoserError):

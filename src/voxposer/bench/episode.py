@@ -1,8 +1,10 @@
 """One benchmark episode: reset → the method runs the instruction → the task's check.
 
 :func:`run_episode` never raises for what happens inside the episode: a program or execution
-failure is the method failing (the check still judges the final state), and any other exception
-(a bug) makes an ``error`` record with its traceback.
+failure is the method failing (the check still judges the final state), a physics blow-up
+(:class:`~voxposer.errors.SimulationUnstableError`) ends the episode as a failure with reason
+"simulation unstable: …" (no check judges a NaN state; the next reset recovers the world), and
+any other exception (a bug) makes an ``error`` record with its traceback.
 """
 
 from __future__ import annotations
@@ -12,6 +14,8 @@ import time
 import traceback
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any
+
+import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.disturb import EpisodeDisturbance
@@ -23,7 +27,7 @@ from voxposer.bench.tasks import get_task
 from voxposer.bench.trace import TraceRecorder
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import finish_video, start_video
-from voxposer.errors import VoxPoserError
+from voxposer.errors import SimulationUnstableError, VoxPoserError
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 
 log = logging.getLogger(__name__)
@@ -148,6 +152,23 @@ class CountingBackend(LLMBackend):
         return response
 
 
+def instability(failure: BaseException | None, world: Any) -> str | None:
+    """Why the physics of ``world`` is not to be judged: the SimulationUnstableError behind
+    ``failure`` (an LMP failure wraps it) or a NaN/inf state; None when it is sound."""
+    seen: set[int] = set()
+    err = failure
+    while err is not None and id(err) not in seen:
+        if isinstance(err, SimulationUnstableError):
+            return str(err)
+        seen.add(id(err))
+        err = err.__cause__ or err.__context__
+    data = getattr(world, "data", None)
+    state = [getattr(data, name, ()) for name in ("qpos", "qvel")]
+    if not all(np.all(np.isfinite(np.asarray(v, dtype=np.float64))) for v in state):
+        return "the physics state holds NaN/inf values"
+    return None
+
+
 def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
                 tol: Tolerances | None = None) -> EpisodeRecord:
     """Run ``job`` in ``world``; ``backend`` answers LLM calls (None with reference programs);
@@ -175,21 +196,27 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         if job.disturbed:
             disturbance = EpisodeDisturbance(world, task, setup.attributes)
         video = start_video(job, world)
+        failure: VoxPoserError | None = None
         with TraceRecorder(world, task.tracked(setup.attributes)) as recorder:
             try:
                 method.run(world, counting, setup, job.max_time_s, job.instructions,
                            make_disturber=disturbance)
             except VoxPoserError as err:
                 rec.program_error = f"{type(err).__name__}: {err}"
+                failure = err
         t2 = time.perf_counter()
         rec.sim_time_s = round(float(world.data.time) - sim0, 3)
         rec.llm_calls, rec.prompt_tokens = counting.calls, counting.prompt_tokens
         rec.llm_cached_calls = counting.cached
         rec.completion_tokens = counting.completion_tokens
         rec.programs = counting.programs
-        verdict = task.check(world, recorder.trace(), setup.attributes, tol)
-        rec.success, rec.reason = bool(verdict.success), verdict.reason
-        rec.metrics = {k: round(float(v), 4) for k, v in verdict.metrics.items()}
+        unstable = instability(failure, world)
+        if unstable is not None:
+            rec.success, rec.reason = False, f"simulation unstable: {unstable}"
+        else:
+            verdict = task.check(world, recorder.trace(), setup.attributes, tol)
+            rec.success, rec.reason = bool(verdict.success), verdict.reason
+            rec.metrics = {k: round(float(v), 4) for k, v in verdict.metrics.items()}
         rec.timings_s = {"reset": round(t1 - t0, 3), "run": round(t2 - t1, 3),
                          "llm": round(counting.seconds, 3)}
     except Exception as exc:

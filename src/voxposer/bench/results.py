@@ -5,6 +5,11 @@ split, seed, disturbed); ``--resume`` skips the jobs whose identity the file alr
 is ``code_hash`` (:mod:`voxposer.bench.version`); records written before versions were stamped
 count as version ``"unknown"``. Neither a resumed file nor a report mixes versions unless asked
 to (``--allow-mixed-versions``).
+
+Each record is appended as one line in one unbuffered write (:func:`append_record`), so a
+stopped run leaves whole lines; a run killed during a write (``kill -9``, a power cut) can leave
+a torn last line, which :func:`load_records` skips and :func:`repair_torn_tail` removes before
+more lines are appended.
 """
 
 from __future__ import annotations
@@ -13,7 +18,7 @@ import json
 import logging
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any, Final
+from typing import Any, BinaryIO, Final
 
 from voxposer.errors import ConfigError
 
@@ -35,6 +40,40 @@ def load_records(path: Path) -> list[dict[str, Any]]:
         except json.JSONDecodeError:
             log.warning("skipping a torn line in %s", path)
     return out
+
+
+def repair_torn_tail(path: Path) -> int:
+    """Make ``path`` end with a whole line before more are appended: a last line without its
+    newline that is a whole record gets the newline, a torn one is cut off (else the next record
+    would be glued to it and lost too). Returns the number of bytes cut (0: nothing torn)."""
+    if not path.is_file():
+        return 0
+    data = path.read_bytes()
+    if not data or data.endswith(b"\n"):
+        return 0
+    cut = data.rfind(b"\n") + 1
+    with path.open("r+b") as fh:
+        try:
+            json.loads(data[cut:])
+        except ValueError:
+            fh.truncate(cut)
+            log.warning("%s: cut off a torn last line (%d bytes; an episode being written when "
+                        "the run was killed)", path, len(data) - cut)
+            return len(data) - cut
+        fh.seek(0, 2)
+        fh.write(b"\n")
+    return 0
+
+
+def append_record(fh: BinaryIO, record: dict[str, Any]) -> None:
+    """Append ``record`` to ``fh`` (a results file opened ``"ab", buffering=0``) as one line, in
+    one write where the OS allows."""
+    view = memoryview((json.dumps(record) + "\n").encode("utf-8"))
+    while view:
+        written = fh.write(view)
+        if not written:
+            raise OSError(f"could not append a record to {getattr(fh, 'name', fh)!r}")
+        view = view[written:]
 
 
 def record_key(r: dict[str, Any]) -> tuple[Any, ...]:

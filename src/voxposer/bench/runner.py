@@ -1,8 +1,10 @@
 """Runs many episodes in parallel worker processes and appends each record to a JSONL file.
 
-Each finished episode is written and flushed at once, so an interruption loses only the
-episodes in flight and ``resume=True`` runs only what the file does not have yet (and only with
-the same code version, :mod:`voxposer.bench.results`). Seeds come from a seed set
+Each finished episode is written at once, as one whole line, so an interruption (a stop signal,
+``kill -9``) loses only the episodes in flight and ``resume=True`` runs only what the file does
+not have yet (and only with the same code version; a torn last line is cut off first:
+:mod:`voxposer.bench.results`). An interruption (KeyboardInterrupt, or a subclass the CLI raises
+for SIGTERM) stops the workers before it propagates. Seeds come from a seed set
 (:mod:`voxposer.bench.protocol`) or an ad-hoc first seed. ``fresh_cache`` gives the run its own,
 initially empty response cache in ``<out>/cache/`` (the prefix-state store stays shared).
 Worker pools (:mod:`voxposer.bench.workers`, ``pool``): ``local`` (a process pool of ``workers``
@@ -13,10 +15,10 @@ processes; ``workers=1`` runs in this process) and ``ray`` (actors on a Ray clus
 from __future__ import annotations
 
 import dataclasses
-import json
 import logging
 import os
 from collections.abc import Callable
+from contextlib import closing
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -25,7 +27,13 @@ from voxposer.bench.attributes import SPLITS, check_split
 from voxposer.bench.episode import EpisodeJob
 from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.protocol import ADHOC, DEV_SEEDS, TEST_SEEDS, check_instructions, get_seed_set
-from voxposer.bench.results import check_resumable, load_records, record_key
+from voxposer.bench.results import (
+    append_record,
+    check_resumable,
+    load_records,
+    record_key,
+    repair_torn_tail,
+)
 from voxposer.bench.tasks import TASKS, get_task
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import check_video_mode
@@ -217,8 +225,8 @@ def run_bench(cfg: BenchConfig, results: Path, *, resume: bool = False,
         on_start: called with (episodes to run, episodes already done).
 
     Returns:
-        All records of ``results`` (old and new). KeyboardInterrupt propagates after the
-        finished episodes are written.
+        All records of ``results`` (old and new). KeyboardInterrupt (and its subclasses)
+        propagates after the finished episodes are written and the workers are stopped.
 
     Raises:
         ConfigError: records without ``resume``; another code version without
@@ -241,12 +249,15 @@ def run_bench(cfg: BenchConfig, results: Path, *, resume: bool = False,
     if on_start is not None:
         on_start(len(jobs), len(cfg.jobs()) - len(jobs))
     results.parent.mkdir(parents=True, exist_ok=True)
-    stream = run_ray(cfg, jobs) if cfg.pool == "ray" else run_local(cfg, jobs)
+    repair_torn_tail(results)
+    results.touch()
     new: list[dict[str, Any]] = []
-    with results.open("a", encoding="utf-8") as fh:
-        for record in stream if jobs else iter(()):
-            fh.write(json.dumps(record) + "\n")
-            fh.flush()
+    if not jobs:
+        return old
+    stream = run_ray(cfg, jobs) if cfg.pool == "ray" else run_local(cfg, jobs)
+    with closing(stream), results.open("ab", buffering=0) as fh:  # closing: stop the workers
+        for record in stream:
+            append_record(fh, record)
             new.append(record)
             if on_record is not None:
                 on_record(record)

@@ -10,6 +10,9 @@ Commands:
                 write the resulting map as HTML.
     bench       the 13-task simulated benchmark (paper Table 4) in parallel, with a report.
     render      render the four camera views of a seeded tabletop scene to one PNG.
+
+Every command checks its arguments before it starts any work (:mod:`voxposer.cli.checks`): a
+bad value is one line naming it and what is allowed, and exit status 2.
 """
 
 from __future__ import annotations
@@ -22,8 +25,10 @@ from pathlib import Path
 from typing import Any
 
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
+from voxposer.cli.checks import OneLineParser, check_out_dir, check_seed
 from voxposer.errors import VoxPoserError
 
 console = Console(stderr=True)
@@ -79,8 +84,15 @@ def _plan_demo(args: argparse.Namespace) -> int:
     return 0 if plans["global"].reached else 1
 
 
+def _check_plan_demo(args: argparse.Namespace) -> None:
+    check_seed(args.seed)
+    check_out_dir(Path(args.out))
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="voxposer", description=__doc__.splitlines()[0])
+    """The ``voxposer`` parser; each command sets ``func`` (the command) and ``check`` (its
+    argument checks, run first)."""
+    parser = OneLineParser(prog="voxposer", description=__doc__.splitlines()[0])
     parser.add_argument("-v", "--verbose", action="store_true", help="debug logging")
     sub = parser.add_subparsers(dest="command", required=True, metavar="command")
     demo = sub.add_parser(
@@ -88,7 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     demo.add_argument("--seed", type=int, default=0, help="seed for the random obstacle blobs")
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
-    demo.set_defaults(func=_plan_demo)
+    demo.set_defaults(func=_plan_demo, check=_check_plan_demo)
     from voxposer.cli import bench, lmp, render, run
 
     run.add_parser(sub)
@@ -99,13 +111,23 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``voxposer <argv>`` (default: the process's arguments); returns the exit status
+    (2: a bad argument or a VoxPoserError before the command could finish)."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # a usage error (one line, already printed) or --help
+        return exc.code if isinstance(exc.code, int) else 2
+    args.argv = argv  # what a command prints to be run again (voxposer bench: --resume)
     logging.basicConfig(level=logging.DEBUG if args.verbose else logging.WARNING)
     try:
+        check = getattr(args, "check", None)
+        if check is not None:
+            check(args)
         return int(args.func(args))
     except VoxPoserError as err:
-        console.print(f"[bold red]error:[/bold red] {err}")
+        console.print(f"[bold red]error:[/bold red] {escape(str(err))}", soft_wrap=True)
         return 2
 
 

@@ -11,19 +11,31 @@ constraint are skipped). ``--seeds dev|test`` picks the seed set (``voxposer.ben
 failures|all`` records an MP4 per failed (or every) episode into ``<out>/videos/``, linked from
 the report's failure modes; ``--disturb`` runs the episodes with the paper's disturbances
 (Table 1; their records are ``disturbed`` and may share a file with static ones, and the report
-puts both side by side). Ctrl-C keeps the finished episodes and writes the report; ``--resume``
-continues (same code version only, unless ``--allow-mixed-versions``).
+puts both side by side).
+
+Every argument is checked before any work starts (:func:`check_args`; a bad one: one line and
+exit status 2). Ctrl-C, SIGINT (even in a background job that ignores it) and SIGTERM stop the
+run the same way: the finished episodes stay in ``episodes.jsonl`` (whole lines), the workers
+are stopped, the report is written, and the command exits with 128 + the signal's number and
+the command line that continues it with ``--resume`` (same code version only, unless
+``--allow-mixed-versions``). A worker process that dies is recorded as a crashed episode and
+replaced; after ``kill -9`` of the whole run, ``--resume`` reruns only the episodes that were
+running.
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
+import os
+import shlex
+import signal
 import time
 from pathlib import Path
 from typing import Any
 
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import (
     BarColumn,
     MofNCompleteColumn,
@@ -37,9 +49,19 @@ from voxposer.bench.attributes import SPLITS
 from voxposer.bench.methods import METHODS, REFERENCE_BLIND, REFERENCE_LLMS
 from voxposer.bench.outputs import write_outputs
 from voxposer.bench.protocol import INSTRUCTION_SPLITS, SEED_SETS
+from voxposer.bench.results import load_records
 from voxposer.bench.runner import BenchConfig, run_bench
 from voxposer.bench.tasks import TASKS
+from voxposer.cli.checks import (
+    check_int,
+    check_llm_options,
+    check_out_dir,
+    check_seconds,
+    check_seed,
+)
+from voxposer.cli.interrupts import Interrupted, stop_signals
 from voxposer.cli.llm_options import add_llm_options, llm_overrides
+from voxposer.errors import ConfigError
 
 log = logging.getLogger(__name__)
 console = Console(stderr=True)
@@ -89,18 +111,59 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    "reverting progress) on a schedule of each sub-task's progress; records are "
                    "marked disturbed, so --resume can add them beside static ones")
     p.add_argument("--no-plot", action="store_true", help="skip success.png")
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, check=check_args)
     return p
 
 
+def max_local_workers() -> int:
+    """The most ``--workers`` of the local pool: 4 per core (at least 8)."""
+    return max(8, 4 * (os.cpu_count() or 1))
+
+
+def check_args(args: argparse.Namespace) -> None:
+    """Refuse bad arguments before any world, model or worker is started.
+
+    Raises:
+        ConfigError: names the option, its value and what is allowed (``--episodes 0``,
+            ``--workers 0``, ``--seed -5``, ``--max-time 0``, an empty ``--tasks``…), and every
+            check of :class:`BenchConfig` and of the LLM options.
+    """
+    check_int(args.episodes, "--episodes", 1)
+    check_seed(args.seed)
+    if args.workers is not None:
+        check_int(args.workers, "--workers", 1,
+                  max_local_workers() if args.pool == "local" else None)
+    check_seconds(args.max_time)
+    check_out_dir(args.out)
+    if args.ray_address is not None and args.pool != "ray":
+        raise ConfigError(f"--ray-address {args.ray_address!r} is for --pool ray; got --pool "
+                          f"{args.pool}")
+    cfg = _config(args)
+    if cfg.llm not in REFERENCE_LLMS:
+        check_llm_options(args, cfg.llm)
+
+
+def _names(value: str, option: str, known: tuple[str, ...]) -> tuple[str, ...]:
+    """The comma-separated names of ``option`` (unknown ones are left to BenchConfig)."""
+    names = tuple(n.strip() for n in value.split(",") if n.strip())
+    if not names:
+        raise ConfigError(f"{option} names nothing ({value!r}); give one or more of: "
+                          f"{', '.join(known)}")
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ConfigError(f"{option} names {', '.join(map(repr, twice))} more than once "
+                          f"({value!r}); give each once")
+    return names
+
+
 def _config(args: argparse.Namespace) -> BenchConfig:
-    tasks = tuple(TASKS) if args.tasks == "all" else tuple(
-        t.strip() for t in args.tasks.split(",") if t.strip())
+    tasks = tuple(TASKS) if args.tasks.strip() == "all" else _names(args.tasks, "--tasks",
+                                                                     tuple(TASKS))
     overrides = llm_overrides(args)
     kwargs: dict[str, Any] = {}
     if args.workers is not None:
         kwargs["workers"] = args.workers
-    return BenchConfig(tasks=tasks, splits=tuple(s.strip() for s in args.splits.split(",")),
+    return BenchConfig(tasks=tasks, splits=_names(args.splits, "--splits", SPLITS),
                        episodes=args.episodes, seeds=args.seeds, seed=args.seed,
                        method=args.method, llm=args.llm, instructions=args.instructions,
                        pool=args.pool, ray_address=args.ray_address,
@@ -153,21 +216,20 @@ def run(args: argparse.Namespace) -> int:
         progress.update(bar, advance=1, description=f"{r['task']} ({r['split']})",
                         rate=f"{counts['ok']}/{counts['n']} ok, {counts['errors']} crashed")
 
-    interrupted = False
+    stopped: Interrupted | None = None
     records: list[dict[str, Any]] = []
-    with progress:
+    with progress, stop_signals():
         try:
             records = run_bench(cfg, results, resume=args.resume, on_record=on_record,
                                 on_start=on_start,
                                 allow_mixed_versions=args.allow_mixed_versions)
-        except KeyboardInterrupt:
-            interrupted = True
-    if interrupted:
-        from voxposer.bench.runner import load_records
-
+        except KeyboardInterrupt as exc:
+            stopped = exc if isinstance(exc, Interrupted) else Interrupted(signal.SIGINT)
+    if stopped is not None:
         records = load_records(results)
-        console.print(f"[bold red]interrupted[/]: {counts['n']} new episodes kept in {results}; "
-                      "continue with --resume")
+        console.print(f"[bold red]stopped by {stopped.signal_name}[/]: {counts['n']} new "
+                      f"episodes kept in {escape(str(results))} ({len(records)} in all); the "
+                      "episodes that were running are not recorded", soft_wrap=True)
     hours = (time.perf_counter() - started) / 3600
     rates = {f"{cfg.method}/{cfg.llm}": counts["n"] / hours} if counts["n"] and hours > 0 else {}
     report = write_outputs(records, out, plot=not args.no_plot, wall_rates=rates,
@@ -176,7 +238,22 @@ def run(args: argparse.Namespace) -> int:
                   highlight=False)
     console.print(f"wrote [bold]{report}[/], [bold]{results}[/]"
                   + ("" if args.no_plot else f", [bold]{out / 'success.png'}[/]"))
-    return 130 if interrupted else 0
+    if stopped is not None:
+        console.print(f"[bold red]stopped by {stopped.signal_name}[/]; continue with: "
+                      f"{escape(resume_command(args, out))}", highlight=False, soft_wrap=True)
+        return stopped.exit_status
+    return 0
+
+
+def resume_command(args: argparse.Namespace, out: Path) -> str:
+    """The command line that continues this run: its own arguments plus ``--resume`` (and
+    ``--out``, when the folder was the default)."""
+    argv = list(getattr(args, "argv", None) or ["bench"])
+    if "--out" not in argv and not any(a.startswith("--out=") for a in argv):
+        argv += ["--out", str(out)]
+    if "--resume" not in argv:
+        argv.append("--resume")
+    return shlex.join(["voxposer", *argv])
 
 
 __all__ = ["SPLITS", "add_parser", "run"]

@@ -17,6 +17,7 @@ import numpy as np
 from rich.console import Console
 from rich.syntax import Syntax
 
+from voxposer.cli.checks import check_int, check_llm_options, check_out_dir, check_text
 from voxposer.cli.llm_options import add_llm_options, backend_from_args
 from voxposer.errors import VoxPoserError
 from voxposer.lmp.handoff import RecordingHandler
@@ -44,8 +45,17 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument("--max-attempts", type=int, default=3,
                         help="LLM calls per query including self-correction")
     add_llm_options(parser)
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, check=check_args)
     return parser
+
+
+def check_args(args: argparse.Namespace) -> None:
+    """Refuse an empty query, ``--max-attempts`` outside [1, 10], an ``--out`` that is a file
+    and unusable LLM options, before any model is loaded."""
+    check_text(args.query, "query", "a point 5cm above the blue block")
+    check_int(args.max_attempts, "--max-attempts", 1, 10)
+    check_out_dir(args.out)
+    check_llm_options(args, args.llm)
 
 
 def run(args: argparse.Namespace) -> int:

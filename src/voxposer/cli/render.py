@@ -7,6 +7,7 @@ import logging
 from pathlib import Path
 from typing import Any
 
+from voxposer.cli.checks import MAX_IMAGE_PX, check_int, check_out_file, check_seed
 from voxposer.errors import VoxPoserError
 
 log = logging.getLogger(__name__)
@@ -20,8 +21,17 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     parser.add_argument("--out", type=Path, default=Path("views.png"), help="output PNG path")
     parser.add_argument("--width", type=int, default=640, help="width of each view [px]")
     parser.add_argument("--height", type=int, default=480, help="height of each view [px]")
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, check=check_args)
     return parser
+
+
+def check_args(args: argparse.Namespace) -> None:
+    """Refuse a negative ``--seed``, an image side outside [1, MAX_IMAGE_PX] px and an ``--out``
+    that is a folder, before the scene is built."""
+    check_seed(args.seed)
+    check_int(args.width, "--width", 1, MAX_IMAGE_PX)
+    check_int(args.height, "--height", 1, MAX_IMAGE_PX)
+    check_out_file(args.out, "--out")
 
 
 def run(args: argparse.Namespace) -> int:

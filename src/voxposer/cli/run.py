@@ -7,7 +7,8 @@ folder: ``rollout.mp4`` (one camera), ``subtask_NN.html`` (composed maps and pla
 sub-task), ``transcript.jsonl`` (prompts, responses, code, errors) and ``summary.json`` (with
 the ``scene`` it set up: which blocks, lines and open drawers, where, and why). The scene suits
 the instruction (:mod:`voxposer.cli.run_scene`); ``--drawer-open`` and ``--place`` override it.
-Exit status 0 only when every sub-task reached its target.
+Exit status 0 only when every sub-task reached its target; 2 for a bad argument (checked before
+anything runs: :func:`check_args`).
 """
 
 from __future__ import annotations
@@ -26,6 +27,13 @@ from rich.live import Live
 from rich.table import Table
 
 from voxposer import tabletop
+from voxposer.cli.checks import (
+    check_llm_options,
+    check_out_dir,
+    check_seconds,
+    check_seed,
+    check_text,
+)
 from voxposer.cli.llm_options import add_llm_options
 from voxposer.cli.run_scene import CLOSE_OPENING_M, SceneRequest, allowed_range, choose_scene
 from voxposer.errors import VoxPoserError
@@ -57,8 +65,24 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
     _add_scene_options(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, check=check_args)
     return p
+
+
+def check_args(args: argparse.Namespace) -> None:
+    """Refuse bad arguments before the world or a model is built.
+
+    Raises:
+        ConfigError: an empty instruction, a negative ``--seed``, a ``--max-time`` that is not a
+            positive number of seconds, an ``--out`` that is a file, a bad ``--place`` /
+            ``--drawer-open``, or language-model options the backend cannot use.
+    """
+    check_text(args.instruction, "instruction", "push the blue block to the back left corner")
+    check_seed(args.seed)
+    check_seconds(args.max_time)
+    check_out_dir(args.out)
+    SceneRequest.from_options(args.drawer_open, args.place)
+    check_llm_options(args, args.llm)
 
 
 def _add_scene_options(parser: argparse.ArgumentParser) -> None:
@@ -153,7 +177,8 @@ def run(args: argparse.Namespace) -> int:
     """Carry out ``args.instruction``; returns the exit status (0 only on success).
 
     Raises:
-        ConfigError: a bad ``--place`` / ``--drawer-open`` value, before anything runs.
+        ConfigError: a bad ``--place`` / ``--drawer-open`` value, before anything runs (the CLI
+            calls :func:`check_args` first).
     """
     request = SceneRequest.from_options(args.drawer_open, args.place)
     out = _out_dir(args)

@@ -39,7 +39,9 @@ Primitives baseline): a world step callback fires each kind at ``times_s`` simul
 (default: push 1 s, revert 2 s, displacement 3 s) after the first physics step, with the entity
 given to the disturber.
 
-Randomness comes from the generator passed in (spawn it from the episode's).
+Randomness comes from the generator passed in (spawn it from the episode's). What was applied
+is a list of JSON-ready records (:func:`applied_record`): the kind, the object disturbed, its
+position or opening before and after, the force, and when.
 """
 
 from __future__ import annotations
@@ -118,7 +120,41 @@ class DisturbanceSchedule:
 
 
 def _vector(value: Any) -> list[float]:
-    return [round(float(v), 4) for v in np.atleast_1d(np.asarray(value, dtype=np.float64))]
+    return [round(float(v), 4) + 0.0 for v in np.atleast_1d(np.asarray(value, dtype=np.float64))]
+
+
+def applied_record(kind: str, target: str, entity: str, sim_time_s: float,
+                   progress: float | None, done: Any) -> dict[str, Any]:
+    """One entry of :attr:`Disturber.applied`: ``kind`` applied to ``target`` and what the world
+    returned (a :class:`~voxposer.envs.disturbances.Disturbance`: target, before, after,
+    duration).
+
+    Keys: ``kind`` (of :data:`KINDS`), ``object`` ("robot", a block, a drawer), ``entity`` (the
+    sub-task's entity of interest), ``sim_time_s`` [s], ``progress`` (None on the sim-time
+    schedule), ``link`` (the robot link a push hit, else None), ``position_before_m`` /
+    ``position_after_m`` (a block's position [m], (3,); a push: the link's before, after None),
+    ``opening_before_m`` / ``opening_after_m`` (a drawer's opening [m]; after a pull: None, physics
+    decides), ``force_n`` (the force of a push or pull [N], (3,), else None), ``duration_s``;
+    and, as recorded before these keys existed, ``target``, ``before``, ``after``.
+    """
+    target = str(getattr(done, "target", target))
+    before, after = _vector(getattr(done, "before", ())), _vector(getattr(done, "after", ()))
+    duration = float(getattr(done, "duration", 0.0))
+    entry: dict[str, Any] = {
+        "kind": kind, "object": target, "entity": entity, "sim_time_s": round(sim_time_s, 3),
+        "progress": None if progress is None else round(progress, 3), "link": None,
+        "position_before_m": None, "position_after_m": None, "opening_before_m": None,
+        "opening_after_m": None, "force_n": None, "duration_s": duration}
+    if kind == "push_robot":
+        entry.update(object="robot", link=target, position_before_m=before, force_n=after)
+    elif "drawer" in target:
+        forced = duration > 0  # a pull: "after" is its force
+        entry.update(opening_before_m=before[0] if before else None,
+                     opening_after_m=None if forced or not after else after[0],
+                     force_n=after if forced else None)
+    else:
+        entry.update(position_before_m=before, position_after_m=after)
+    return {**entry, "target": target, "before": before, "after": after}
 
 
 @dataclass
@@ -131,9 +167,7 @@ class Disturber:
         relevant: the task-relevant blocks, most relevant first ("blue block").
         entity: the entity of interest for the sim-time schedule (None: the end effector).
         schedule: when each kind fires.
-        applied: what was applied, in order: {"kind", "target", "entity", "sim_time_s",
-            "progress" (None on the sim-time schedule), "before", "after", "duration_s"} with
-            the world's :class:`Disturbance` values ("after" of a force: the force [N]).
+        applied: what was applied, in order, as JSON-ready records (:func:`applied_record`).
     """
 
     world: DisturbableWorld
@@ -206,18 +240,12 @@ class Disturber:
         target = self._target(kind, entity)
         if target is None:
             return False
-        entry: dict[str, Any] = {"kind": kind, "target": target, "entity": entity,
-                                 "sim_time_s": round(now, 3),
-                                 "progress": None if progress is None else round(progress, 3)}
         try:
             done = self._apply(kind, target, start)
         except VoxPoserError as err:  # e.g. no free spot on the table: try again later
             log.info("disturbance %s of %s refused: %s", kind, target, err)
             return False
-        entry.update(target=str(getattr(done, "target", target)),
-                     before=_vector(getattr(done, "before", ())),
-                     after=_vector(getattr(done, "after", ())),
-                     duration_s=float(getattr(done, "duration", 0.0)))
+        entry = applied_record(kind, target, entity, now, progress, done)
         log.info("disturbance %s of %s at t=%.2f s", kind, entry["target"], now)
         self.applied.append(entry)
         return True
@@ -259,4 +287,4 @@ class Disturber:
 
 
 __all__ = ["HELD_OPENING_M", "HELD_RADIUS_M", "KINDS", "DisturbableWorld", "DisturbanceSchedule",
-           "Disturber"]
+           "Disturber", "applied_record"]

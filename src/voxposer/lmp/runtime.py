@@ -10,6 +10,13 @@ Self-correction: when code raises, leaves its result unset, or fails a sanity ch
 again, up to ``LMPConfig.max_attempts`` calls. Code that has already had side effects (an
 ``execute`` or ``composer`` call) is not retried.
 
+An object the scene lacks: ``parse_query_obj`` code that finds nothing (``ret_val = None`` or an
+empty list) fails with an :class:`~voxposer.errors.UnknownObjectError` naming the query and the
+scene's objects, as ``detect`` of an unknown name does; that is what the model sees when it
+retries. A second "nothing" after being shown the scene's objects settles it. An LMP that gives
+up on an unknown object raises :class:`~voxposer.errors.UnresolvedObjectError`, which every
+enclosing LMP passes on without retrying: the user sees the object, not a chain of failures.
+
 With ``LMPConfig.held_out_task`` every prompt loses the examples tagged with that task (an
 "unseen instruction" fold); a prompt the fold changed is sent under its own prefix id
 (``"composer~push_to_pos"``), so a backend caches its prefix beside the default one.
@@ -22,7 +29,15 @@ import time
 from dataclasses import asdict
 from typing import Any
 
-from voxposer.errors import ConfigError, LMPFailedError, ProgramError, SandboxError
+from voxposer.errors import (
+    ConfigError,
+    LLMError,
+    LMPFailedError,
+    ProgramError,
+    SandboxError,
+    UnknownObjectError,
+    UnresolvedObjectError,
+)
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
 from voxposer.lmp.checks import check_result
@@ -127,6 +142,7 @@ class LMPRuntime:
         self.transcript.prompt_once(spec.name, [asdict(m) for m in base[:-1]])
         messages = list(base)
         attempts: list[dict[str, str]] = []
+        last: BaseException | None = None
         self._depth += 1
         try:
             for attempt in range(1, self.config.max_attempts + 1):
@@ -136,11 +152,17 @@ class LMPRuntime:
                 effects = self._side_effects
                 try:
                     value = self._evaluate(spec, query, code, attempt=attempt, replay=False)
+                except (UnresolvedObjectError, LLMError):
+                    # an LMP this code called gave up on the object, or the model's endpoint
+                    # failed: no retry here, the caller sees that error itself
+                    raise
                 except Exception as exc:
                     attempts.append({"code": code, "error": _describe(exc)})
-                    if self._side_effects != effects or isinstance(exc, _NoRetry):
-                        cause = exc.original if isinstance(exc, _NoRetry) else exc
-                        raise LMPFailedError(spec.name, query, attempts) from cause
+                    cause = exc.original if isinstance(exc, _NoRetry) else exc
+                    settled = isinstance(cause, _NothingFound) and isinstance(last, _NothingFound)
+                    last = cause
+                    if self._side_effects != effects or isinstance(exc, _NoRetry) or settled:
+                        raise _give_up(spec.name, query, attempts, cause) from cause
                     logger.info("%s(%r) attempt %d failed: %s", spec.name, query, attempt,
                                 attempts[-1]["error"])
                     messages += [ChatMessage("assistant", text),
@@ -150,7 +172,7 @@ class LMPRuntime:
                 return value
         finally:
             self._depth -= 1
-        raise LMPFailedError(spec.name, query, attempts)
+        raise _give_up(spec.name, query, attempts, last) from last
 
     def _complete(self, spec: LMPSpec, query: str, messages: list[ChatMessage], n_prefix: int,
                   attempt: int) -> str:
@@ -172,6 +194,8 @@ class LMPRuntime:
         error = None
         try:
             namespace = self.sandbox.run(code, self._variables(spec, query))
+            if spec.role == "object" and _is_nothing(namespace.get(spec.result_name or "", 0)):
+                raise _NothingFound(query, self.scene.object_names)
             return check_result(spec, namespace, self.scene.grid)
         except Exception as exc:
             error = _describe(exc)
@@ -262,6 +286,25 @@ class LMPRuntime:
                           f"{type(value).__name__}")
 
 
+class _NothingFound(UnknownObjectError):
+    """Object code that found nothing (``ret_val`` None or empty) for its query."""
+
+
+def _is_nothing(value: Any) -> bool:
+    """Whether an object LMP's result says "no such object": None or an empty list/tuple."""
+    return value is None or (isinstance(value, list | tuple) and not value)
+
+
+def _give_up(lmp: str, query: str, attempts: list[dict[str, str]],
+             cause: BaseException | None) -> LMPFailedError | UnresolvedObjectError:
+    """The error of an LMP that gives up: an unknown object stays one (for every enclosing LMP
+    to pass on), anything else is an :class:`LMPFailedError` with every attempt."""
+    if isinstance(cause, UnknownObjectError):
+        return UnresolvedObjectError(cause.name, cause.known, lmp=lmp, query=query,
+                                     attempts=attempts)
+    return LMPFailedError(lmp, query, attempts)
+
+
 class _NoRetry(Exception):
     """Wraps a failure of the execute handler so it propagates without self-correction."""
 
@@ -273,6 +316,10 @@ class _NoRetry(Exception):
 def _describe(exc: BaseException) -> str:
     if isinstance(exc, _NoRetry):
         exc = exc.original
+    if isinstance(exc, _NothingFound):
+        return (f"UnknownObjectError: {exc} (`ret_val` holds no object). Assign "
+                "`ret_val = detect(<one of those names>)` if one of them is meant; if none is, "
+                "leave `ret_val = None`")
     if isinstance(exc, SyntaxError) and not isinstance(exc, SandboxError):
         return f"SyntaxError: {exc.msg} (line {exc.lineno}: {(exc.text or '').strip()})"
     if isinstance(exc, ValueError) and "read-only" in str(exc):
