@@ -58,12 +58,12 @@ def match_name(query: str, names: Sequence[str]) -> str:
     raise UnknownObjectError(str(query), names)
 
 
-#: Names that mean the robot's end effector when used as the entity of interest.
-END_EFFECTOR_NAMES: Final = frozenset({"gripper", "end effector", "ee", "hand", "robot",
-                                       "end-effector"})
+#: What the entity of interest is called when it is the robot's end effector, after
+#: :func:`normalize_name` (which already maps "end effector", "ee", "hand" to "gripper").
+END_EFFECTOR_NAMES: Final = frozenset({"gripper", "robot", "end-effector"})
 
 
 def is_end_effector(name: str) -> bool:
-    """Whether an entity name refers to the robot's end effector."""
-    key = re.sub(r"\s+", " ", name.strip().lower()).removeprefix("the ")
-    return key in END_EFFECTOR_NAMES
+    """Whether an entity name refers to the robot's end effector (through the one synonym
+    table)."""
+    return normalize_name(name) in END_EFFECTOR_NAMES
