@@ -4,7 +4,8 @@ model programs, whose ``execute`` calls run in closed loop.
 ``voxposer run`` and ``voxposer bench`` both build their runs here, so they cannot drift apart.
 An :class:`Embodiment` is what the pipeline acts through: a robot and a perceiver (in
 simulation the MuJoCo world is the robot and the source of observations, and a ground-truth
-segmentation perceiver reads them; a real arm with cameras is another embodiment).
+segmentation perceiver, or a colour-depth one reading pixels only, reads them; a real arm with
+cameras is another embodiment).
 """
 
 from __future__ import annotations
@@ -12,21 +13,49 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 
 from voxposer.control.config import ExecutorConfig
 from voxposer.control.execution_result import ExecutionResult
 from voxposer.control.robot_handoff import RobotHandoff
+from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import LLMBackend
 from voxposer.lmp.registry import LMPConfig
 from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.scene import RobotScene
 from voxposer.lmp.transcript import Transcript
+from voxposer.perception.colour_depth import ColourDepthPerceiver
 from voxposer.perception.perceiver import Perceiver
 from voxposer.perception.segmentation import SegmentationPerceiver
 from voxposer.robot import Robot
+
+#: How a simulated embodiment finds objects (``--perception``): the simulator's ground-truth
+#: segmentation channel, or colour and depth pixels only
+#: (:class:`~voxposer.perception.colour_depth.ColourDepthPerceiver`).
+PERCEPTIONS: Final = ("ground-truth", "colour-depth")
+_perception = {"default": "ground-truth"}
+
+
+def check_perception(name: str) -> str:
+    """``name`` if it is one of :data:`PERCEPTIONS`; else ConfigError listing them."""
+    if name not in PERCEPTIONS:
+        raise ConfigError(f"unknown perception {name!r}; choose one of: {', '.join(PERCEPTIONS)}")
+    return name
+
+
+def use_perception(name: str) -> None:
+    """Make ``name`` (:data:`PERCEPTIONS`) what :meth:`Embodiment.simulated` uses when not told
+    otherwise, in this process (a benchmark worker sets it once, before its episodes)."""
+    _perception["default"] = check_perception(name)
+
+
+def simulated_perceiver(world: Any, perception: str) -> Perceiver:
+    """The perceiver ``perception`` (:data:`PERCEPTIONS`) reading ``world``'s cameras."""
+    if check_perception(perception) == "colour-depth":
+        return ColourDepthPerceiver(world, world.grid)
+    return SegmentationPerceiver(world, world.grid)
 
 
 @dataclass(frozen=True)
@@ -43,9 +72,11 @@ class Embodiment:
     perceiver: Perceiver
 
     @classmethod
-    def simulated(cls, world: Any) -> Embodiment:
-        """The MuJoCo world as robot, read by ground-truth segmentation (paper App. A.5)."""
-        return cls(world, SegmentationPerceiver(world, world.grid))
+    def simulated(cls, world: Any, perception: str | None = None) -> Embodiment:
+        """The MuJoCo world as robot, read by ``perception`` (:data:`PERCEPTIONS`; None: this
+        process's default, see :func:`use_perception`, normally "ground-truth": segmentation as
+        in the paper's App. A.5)."""
+        return cls(world, simulated_perceiver(world, perception or _perception["default"]))
 
     @property
     def scene(self) -> RobotScene:
@@ -82,4 +113,5 @@ def voxposer_runtime(
     return runtime, handoff
 
 
-__all__ = ["Embodiment", "voxposer_runtime"]
+__all__ = ["PERCEPTIONS", "Embodiment", "check_perception", "simulated_perceiver",
+           "use_perception", "voxposer_runtime"]

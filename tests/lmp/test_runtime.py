@@ -120,9 +120,14 @@ def test_transcript_is_jsonl_written_incrementally(tmp_path: Path) -> None:
     lines = (tmp_path / "run.jsonl").read_text().splitlines()
     events = [json.loads(line) for line in lines]
     kinds = {e["event"] for e in events}
-    assert kinds == {"prompt", "llm_call", "exec", "execute"}
+    assert kinds == {"prompt", "llm_call", "exec", "execute", "resolved"}
     llm = [e for e in events if e["event"] == "llm_call"]
-    assert len(llm) == rt.llm_calls == 8
+    resolved = [e for e in events if e["event"] == "resolved"]
+    # the parse_query_obj queries that name a scene object exactly need no LLM call
+    assert {e["name"] for e in resolved} >= {"blue block", "green block"}
+    assert len(llm) == rt.llm_calls == 8 - len(resolved)
+    assert not any(e["event"] == "llm_call" and e["lmp"] == "parse_query_obj"
+                   and e["query"] in {r["query"] for r in resolved} for e in events)
     assert all(e["response"] for e in llm)
     assert any(e["event"] == "exec" and "point_beside" in e["code"] for e in events)
 

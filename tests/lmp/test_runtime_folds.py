@@ -42,7 +42,8 @@ def run(held_out: str | None, record: Path | None = None) -> list[LLMRequest]:
     replay: LLMBackend = ReplayBackend(RECORDINGS / "closed_loop.jsonl")
     spy = Spy(RecordingBackend(replay, record) if record else replay)
     rt = LMPRuntime(make_tabletop_scene(), spy, handler=RecordingHandler(),
-                    config=LMPConfig(held_out_task=held_out))
+                    # every LMP asks the model (no exact-name shortcut), so each fold is seen
+                    config=LMPConfig(held_out_task=held_out, resolve_exact_names=False))
     rt.run(INSTRUCTION)
     assert len(rt.handler.requests) == 1  # type: ignore[attr-defined]
     return spy.requests

@@ -11,9 +11,12 @@ from voxposer.errors import ConfigError, SandboxError
 from voxposer.lmp.sandbox import Sandbox, SandboxConfig, suspend_time_limit
 
 
-@pytest.fixture(scope="module")
-def sandbox() -> Sandbox:
-    return Sandbox(SandboxConfig(time_limit_s=0.5))
+@pytest.fixture(scope="module", params=["inline", "process"])
+def sandbox(request: pytest.FixtureRequest) -> Sandbox:
+    """Both isolation modes must refuse and allow the same code."""
+    sandbox = Sandbox(SandboxConfig(time_limit_s=0.5, isolation=request.param))
+    yield sandbox
+    sandbox.close()
 
 
 def test_ordinary_value_map_code_runs(sandbox: Sandbox) -> None:

@@ -12,10 +12,13 @@ from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.sandbox import Sandbox, SandboxConfig
 
 
-@pytest.fixture(scope="module")
-def small() -> Sandbox:
-    """Tight limits, so that every refusal below is cheap to provoke."""
-    return Sandbox(SandboxConfig(time_limit_s=5.0, max_elements=100_000, max_work=1_000_000))
+@pytest.fixture(scope="module", params=["inline", "process"])
+def small(request: pytest.FixtureRequest) -> Sandbox:
+    """Tight limits, so that every refusal below is cheap to provoke (in both modes)."""
+    sandbox = Sandbox(SandboxConfig(time_limit_s=5.0, max_elements=100_000, max_work=1_000_000,
+                                    isolation=request.param))
+    yield sandbox
+    sandbox.close()
 
 
 def _object() -> ObjectView:

@@ -20,8 +20,9 @@ from voxposer.errors import SandboxError
 from voxposer.lmp import LMP_SPECS, make_tabletop_scene
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.codetext import extract_code
+from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.prompt import load_prompt
-from voxposer.lmp.sandbox import Sandbox
+from voxposer.lmp.sandbox import Sandbox, SandboxConfig
 
 TESTS = Path(__file__).parents[1]
 RECORDINGS = [TESTS / "lmp" / "recordings" / "closed_loop.jsonl",
@@ -36,9 +37,12 @@ def api() -> LMPAPI:
     return LMPAPI(make_tabletop_scene())
 
 
-@pytest.fixture(scope="module")
-def sandbox() -> Sandbox:
-    return Sandbox()
+@pytest.fixture(scope="module", params=["inline", "process"])
+def sandbox(request: pytest.FixtureRequest) -> Sandbox:
+    """Both isolation modes must run every example and recording alike."""
+    sandbox = Sandbox(SandboxConfig(isolation=request.param))
+    yield sandbox
+    sandbox.close()
 
 
 class MetricObject(NamedTuple):
@@ -82,10 +86,16 @@ def _examples() -> list[tuple[str, int, str]]:
                          ids=[f"{n}-{i}" for n, i, _ in _examples()])
 def test_every_prompt_example_runs(sandbox: Sandbox, api: LMPAPI, lmp: str, index: int,
                                    code: str) -> None:
-    out = sandbox.run(extract_code(code), _namespace(api, lmp))
+    namespace = _namespace(api, lmp)
+    intent = IntentChecks(api)
+    if lmp == "planner":  # the post-condition helpers, evaluated on the fixed scene
+        namespace.update(intent.namespace(lambda fn: fn))
+    out = sandbox.run(extract_code(code), namespace)
     if lmp in MAP_LMPS:
         value = out["ret_val"]
         assert isinstance(value, np.ndarray) and value.shape[:3] == api.grid.shape
+    # every post-condition an example states is one the helpers can evaluate
+    assert not [r for r in intent.results if r.error], intent.results
 
 
 def _recorded() -> list[tuple[str, str, str]]:

@@ -12,6 +12,8 @@ Public API:
 * :data:`METHODS` — "voxposer" and "llm_primitives" (the LLM + Primitives baseline, App. A.4).
 * Gymnasium: importing this package registers every task as ``voxposer/<TaskClass>-v0``
   (:mod:`voxposer.bench.gym_ids`, :mod:`voxposer.bench.gym_tasks`), e.g. ``gym.make("voxposer/PushToPos-v0")``.
+* The multi-step suite (:mod:`voxposer.bench.multistep`, ``voxposer bench --suite multistep``):
+  2–3 step instructions with a check per step and for their order, kept out of :data:`TASKS`.
 * CLI: ``voxposer bench`` (:mod:`voxposer.cli.bench`).
 """
 

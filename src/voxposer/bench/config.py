@@ -59,6 +59,10 @@ class Tolerances:
         held_distance_m: a grasped block's centre is within this distance of the end effector [m].
         held_opening_m: … and the fingers are between these openings (lo, hi) [m].
         lift_m: a grasped block is lifted at least this far above the table [m].
+        hover_radius_m: "hover [h]cm over the [obj]" (multi-step suite): the end effector is
+            within this distance of the point [h] cm above the block's top face [m].
+        away_m: "move away from the [obj]" (multi-step suite): the end effector is at least this
+            far from the block's faces [m].
     """
 
     corner_radius_m: float = 0.08
@@ -85,6 +89,8 @@ class Tolerances:
     held_distance_m: float = 0.05
     held_opening_m: tuple[float, float] = (0.035, 0.075)
     lift_m: float = 0.05
+    hover_radius_m: float = 0.03
+    away_m: float = 0.10
 
     def __post_init__(self) -> None:
         for f in fields(self):

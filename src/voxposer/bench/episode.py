@@ -22,8 +22,8 @@ from voxposer.bench.disturb import EpisodeDisturbance
 from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.paraphrases import paraphrase
 from voxposer.bench.protocol import ADHOC
+from voxposer.bench.suites import TASKS_SUITE, suite_task
 from voxposer.bench.task import reset_episode
-from voxposer.bench.tasks import get_task
 from voxposer.bench.trace import TraceRecorder
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import finish_video, start_video
@@ -49,6 +49,8 @@ class EpisodeJob:
         disturbed: with the paper's disturbances (:mod:`voxposer.bench.disturb`).
         video: "none", "failures" or "all" (:mod:`voxposer.bench.videos`).
         out_dir: the output folder (videos go to its ``videos/``); None without videos.
+        suite: the instruction suite ``task`` comes from ("tasks" or "multistep":
+            :mod:`voxposer.bench.suites`).
     """
 
     task: str
@@ -62,6 +64,7 @@ class EpisodeJob:
     disturbed: bool = False
     video: str = "none"
     out_dir: str | None = None
+    suite: str = TASKS_SUITE
 
     @property
     def key(self) -> tuple[str, str, str, str, str, int, bool]:
@@ -110,6 +113,14 @@ class EpisodeRecord:
     disturbances: list[dict[str, Any]] = field(default_factory=list)
     #: the episode's MP4, relative to the output folder (None: not recorded or not kept)
     video: str | None = None
+    #: intent checks: the post-conditions the plan stated, evaluated after their sub-tasks
+    #: ({"subtask", "condition", "held", "measured", "error"}), and the run's own verdict —
+    #: True when no sub-task failed and every evaluated post-condition held (None: the plan
+    #: stated none), compared with ``success`` (the task's check) by the report
+    intent: list[dict[str, Any]] = field(default_factory=list)
+    intent_verdict: bool | None = None
+    #: the instruction suite of ``task`` (:mod:`voxposer.bench.suites`)
+    suite: str = TASKS_SUITE
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-serialisable dict."""
@@ -122,7 +133,7 @@ class EpisodeRecord:
         return cls(job.task, job.split, job.seed, job.method, job.llm,
                    instructions=job.instructions, seed_set=job.seed_set, code_hash=v.code_hash,
                    prompt_hash=v.prompt_hash, git_commit=v.commit, git_dirty=v.dirty,
-                   disturbed=job.disturbed)
+                   disturbed=job.disturbed, suite=job.suite)
 
 
 class CountingBackend(LLMBackend):
@@ -152,6 +163,15 @@ class CountingBackend(LLMBackend):
         return response
 
 
+def intent_verdict(intent: list[dict[str, Any]], failure: BaseException | None) -> bool | None:
+    """The run's own verdict from its stated post-conditions: None when none was evaluated,
+    else True when every one held and no sub-task failed."""
+    checked = [r for r in intent if not r.get("error")]
+    if not checked:
+        return None
+    return failure is None and all(bool(r["held"]) for r in checked)
+
+
 def instability(failure: BaseException | None, world: Any) -> str | None:
     """Why the physics of ``world`` is not to be judged: the SimulationUnstableError behind
     ``failure`` (an LMP failure wraps it) or a NaN/inf state; None when it is sound."""
@@ -178,7 +198,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
     t0 = time.perf_counter()
     video, disturbance = None, None
     try:
-        task, method = get_task(job.task), get_method(job.method)
+        task, method = suite_task(job.suite, job.task), get_method(job.method)
         setup = reset_episode(task, world, job.split, job.seed, tol)
         if job.instructions == "paraphrased":  # test phrasings on test seeds only
             setup = replace(setup, instruction=paraphrase(
@@ -200,7 +220,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         with TraceRecorder(world, task.tracked(setup.attributes)) as recorder:
             try:
                 method.run(world, counting, setup, job.max_time_s, job.instructions,
-                           make_disturber=disturbance)
+                           make_disturber=disturbance, intents=rec.intent)
             except VoxPoserError as err:
                 rec.program_error = f"{type(err).__name__}: {err}"
                 failure = err
@@ -210,6 +230,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         rec.llm_cached_calls = counting.cached
         rec.completion_tokens = counting.completion_tokens
         rec.programs = counting.programs
+        rec.intent_verdict = intent_verdict(rec.intent, failure)
         unstable = instability(failure, world)
         if unstable is not None:
             rec.success, rec.reason = False, f"simulation unstable: {unstable}"

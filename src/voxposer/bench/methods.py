@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
+from voxposer.bench.intent_reference import with_expectation
 from voxposer.bench.task import BenchTask, EpisodeSetup
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import LLMBackend
@@ -47,7 +48,8 @@ class Method:
     paper_column: str
 
     def run(self, world: Any, backend: LLMBackend, setup: EpisodeSetup, max_time_s: float,
-            instructions: str = "seen", make_disturber: DisturberFactory | None = None) -> None:
+            instructions: str = "seen", make_disturber: DisturberFactory | None = None,
+            intents: list[dict[str, Any]] | None = None) -> None:
         """Carry out ``setup.instruction`` (raises VoxPoserError when the method fails).
 
         Args:
@@ -59,6 +61,8 @@ class Method:
                 VoxPoser is disturbed on sub-task progress (the executor's ``on_replan``), the
                 baseline, which never replans, on the sim-time schedule
                 (:mod:`voxposer.control.disturbance_schedule`).
+            intents: receives the post-conditions VoxPoser's plan stated, evaluated
+                (:class:`voxposer.lmp.intent.IntentResult` as dicts), also when the run fails.
         """
         from voxposer.control import ExecutorConfig
         from voxposer.lmp.registry import LMPConfig
@@ -76,7 +80,11 @@ class Method:
             runtime, _ = voxposer_runtime(
                 body, backend, rng, executor_config=exec_config, lmp_config=config,
                 on_replan=None if disturber is None else disturber.on_replan)
-            runtime.run(setup.instruction)
+            try:
+                runtime.run(setup.instruction)
+            finally:
+                if intents is not None:
+                    intents.extend(r.to_json() for r in runtime.intent.results)
         else:
             from voxposer.bench.primitives import PrimitivesRuntime
 
@@ -100,11 +108,14 @@ class Method:
             if progs is None:
                 raise ConfigError(f"task {task.name!r} carries no constraint, so it has no "
                                   "constraint-blind control")
+            progs = with_expectation(progs, task.name, attrs)
             return ReplayBackend(progs.entries(), model="reference-blind-programs")
         progs = task.reference(attrs) if self.name == "voxposer" else \
             task.primitives_reference(attrs)
         if progs is None:
             raise ConfigError(f"task {task.name!r} has no reference programs for {self.name}")
+        if self.name == "voxposer":
+            progs = with_expectation(progs, task.name, attrs)
         return ReplayBackend(progs.entries(), model="reference-programs")
 
 

@@ -26,6 +26,10 @@ class Programs:
         self._code[(lmp, query)] = "\n".join(lines)
         return self
 
+    def keys(self) -> list[tuple[str, str]]:
+        """Every (LMP, query) recorded, in order."""
+        return list(self._code)
+
     def code(self, lmp: str, query: str) -> str:
         """The code recorded for ``lmp(query)`` (KeyError if none)."""
         return self._code[(lmp, query)]

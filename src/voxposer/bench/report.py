@@ -21,6 +21,7 @@ from voxposer.bench.paper import TABLE2, paper_category_means, paper_rate
 from voxposer.bench.protocol import INSTRUCTION_LABELS
 from voxposer.bench.report_disturbed import disturbed_lines
 from voxposer.bench.report_failures import failure_lines
+from voxposer.bench.report_intent import intent_lines
 from voxposer.bench.report_tables import control_lines, provenance_lines, table2_lines
 from voxposer.bench.results import check_single_version, record_key
 from voxposer.bench.tasks import TASKS
@@ -157,6 +158,7 @@ def markdown(records: list[dict[str, Any]], tol: Tolerances, wall_rates: dict[st
     shaken = [r for r in everything if r.get("disturbed", False)]
     if not disturbed:
         lines += disturbed_lines(table, tabulate(shaken), shaken, group_label)
+    lines += intent_lines(records, group_label)
     lines += failure_lines(everything, group_label, out)
     lines += ["## Task categories", "", "| Task | Category |", "|---|---|"]
     lines += [f"| {t.template} | {t.category} |" for t in TASKS.values()]

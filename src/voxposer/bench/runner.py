@@ -34,11 +34,19 @@ from voxposer.bench.results import (
     record_key,
     repair_torn_tail,
 )
+from voxposer.bench.suites import (
+    MULTISTEP_SUITE,
+    TASKS_SUITE,
+    check_suite,
+    suite_names,
+    suite_task,
+)
 from voxposer.bench.tasks import TASKS, get_task
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import check_video_mode
 from voxposer.bench.workers import run_local, run_ray
 from voxposer.errors import ConfigError
+from voxposer.pipeline import check_perception
 
 log = logging.getLogger(__name__)
 
@@ -52,7 +60,7 @@ class BenchConfig:
     """What to run.
 
     Attributes:
-        tasks: task names (default: all 13).
+        tasks: task names of ``suite`` (default: all of it — the 13 tasks, or every entry).
         splits: "seen" and/or "unseen".
         episodes: episodes per task and split.
         seeds: seed set, "dev" or "test" (the first ``episodes`` seeds of the set); None with
@@ -77,6 +85,11 @@ class BenchConfig:
             their records carry ``disturbed=True``, a separate identity from static ones.
         out_dir: the output folder the workers write videos to (:func:`run_bench` sets it to
             the results file's folder when None).
+        suite: "tasks" (the 13 tasks) or "multistep" (:mod:`voxposer.bench.multistep`; seen
+            instructions only, and no constraint-blind control).
+        perception: how the simulated robot finds objects, one of
+            :data:`voxposer.pipeline.PERCEPTIONS` ("ground-truth" segmentation, or
+            "colour-depth": RGB-D pixels only); every record carries it.
     """
 
     tasks: tuple[str, ...] = tuple(TASKS)
@@ -96,10 +109,15 @@ class BenchConfig:
     video: str = "none"
     disturb: bool = False
     out_dir: Path | None = None
+    suite: str = TASKS_SUITE
+    perception: str = "ground-truth"
 
     def __post_init__(self) -> None:
+        check_suite(self.suite)
+        if self.suite != TASKS_SUITE and self.tasks == tuple(TASKS):  # the default: all of it
+            object.__setattr__(self, "tasks", suite_names(self.suite))
         for name in self.tasks:
-            get_task(name)
+            suite_task(self.suite, name)
         for split in self.splits:
             check_split(split)
         get_method(self.method)
@@ -114,7 +132,26 @@ class BenchConfig:
         if not self.max_time_s > 0:
             raise ConfigError(f"BenchConfig.max_time_s must be > 0; got {self.max_time_s!r}")
         check_video_mode(self.video)
+        check_perception(self.perception)
+        self._check_suite_protocol()
         self._check_protocol()
+
+    def _check_suite_protocol(self) -> None:
+        """What the multi-step suite does not support: other instruction splits (its entries
+        have no few-shot examples to hold out, nor paraphrases), constraint-blind controls, and
+        reference programs for the LLM + Primitives baseline."""
+        if self.suite != MULTISTEP_SUITE:
+            return
+        if self.instructions != "seen":
+            raise ConfigError(f"suite {MULTISTEP_SUITE!r} runs instructions='seen' only; got "
+                              f"instructions={self.instructions!r}")
+        if self.llm == REFERENCE_BLIND:
+            raise ConfigError(f"suite {MULTISTEP_SUITE!r} has no constraint-blind controls; "
+                              f"use llm='reference' or an LLM backend, not {self.llm!r}")
+        if self.llm in REFERENCE_LLMS and self.method != "voxposer":
+            raise ConfigError(f"suite {MULTISTEP_SUITE!r} has reference programs for method "
+                              f"'voxposer' only; got method={self.method!r} with "
+                              f"llm={self.llm!r}")
 
     def _check_protocol(self) -> None:
         """Seeds, instruction split and the reference-blind control."""
@@ -175,7 +212,8 @@ class BenchConfig:
         tasks = [t for t in self.tasks if t not in self.skipped_tasks]
         out = None if self.out_dir is None else str(self.out_dir)
         return [EpisodeJob(t, s, seed, self.method, self.llm, self.max_time_s,
-                           self.instructions, self.seed_set, self.disturb, self.video, out)
+                           self.instructions, self.seed_set, self.disturb, self.video, out,
+                           suite=self.suite)
                 for seed in self.seed_list() for t in tasks for s in self.splits]
 
 

@@ -81,13 +81,15 @@ class BenchTask(ABC):
     to ``voxposer/bench/tasks/`` (its Gymnasium id, its parametrised test and ``--tasks`` follow).
     """
 
-    def __init_subclass__(cls, **kwargs: Any) -> None:
+    def __init_subclass__(cls, register: bool = True, **kwargs: Any) -> None:
+        """Register a concrete subclass with a ``name``; ``register=False`` keeps it out of the
+        13-task registry (the multi-step suite, :mod:`voxposer.bench.multistep`, keeps its own)."""
         super().__init_subclass__(**kwargs)
         name = cls.__dict__.get("name")
         # (ABCMeta computes __abstractmethods__ only after this hook: look at the methods)
         abstract = any(getattr(getattr(cls, m, None), "__isabstractmethod__", False)
                        for m in ("layout", "check", "reference"))
-        if name is None or abstract:
+        if name is None or abstract or not register:
             return
         if name in _REGISTERED and _REGISTERED[name].__qualname__ != cls.__qualname__:
             raise ConfigError(f"two benchmark tasks are called {name!r}: "

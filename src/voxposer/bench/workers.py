@@ -60,6 +60,8 @@ class ExecutorSettings(Protocol):
     def llm_overrides(self) -> dict[str, Any]: ...
     @property
     def ray_address(self) -> str | None: ...
+    @property
+    def perception(self) -> str: ...
 
 
 # ------------------------------------------------------------------------ worker side
@@ -74,11 +76,16 @@ def worker_llm_config(llm: str, overrides: dict[str, Any]) -> LLMConfig:
 
 
 class _Worker:
-    """One world (and one LLM backend) per worker process."""
+    """One world (and one LLM backend) per worker process, perceived with ``perception``
+    (:data:`voxposer.pipeline.PERCEPTIONS`), which each record names."""
 
-    def __init__(self, llm: str, overrides: dict[str, Any]) -> None:
+    def __init__(self, llm: str, overrides: dict[str, Any],
+                 perception: str = "ground-truth") -> None:
         from voxposer.envs import TabletopWorld
+        from voxposer.pipeline import use_perception
 
+        use_perception(perception)
+        self.perception = perception
         self.world = TabletopWorld()
         self.backend = None
         if llm not in REFERENCE_LLMS:
@@ -88,7 +95,8 @@ class _Worker:
         self.tol = Tolerances()
 
     def run(self, job: EpisodeJob) -> dict[str, Any]:
-        return run_episode(job, self.world, self.backend, self.tol).to_json()
+        return {**run_episode(job, self.world, self.backend, self.tol).to_json(),
+                "perception": self.perception}
 
 
 def _exit_with_parent() -> None:
@@ -263,7 +271,8 @@ def run_local(cfg: ExecutorSettings, jobs: list[EpisodeJob],
     """Run ``jobs`` on ``cfg.workers`` local processes (1: in this process), yielding each
     record as it finishes; ``make_worker`` builds a process's runner (default: a world and the
     backend of ``cfg``)."""
-    factory = make_worker or functools.partial(_Worker, cfg.llm, cfg.llm_overrides)
+    factory = make_worker or functools.partial(_Worker, cfg.llm, cfg.llm_overrides,
+                                               cfg.perception)
     if cfg.workers == 1:
         worker = factory()
         for job in jobs:
@@ -280,8 +289,9 @@ def _error_record(job: EpisodeJob, exc: BaseException) -> dict[str, Any]:
 
 
 class _RayWorker:  # wrapped by ray.remote at run time
-    def __init__(self, llm: str, overrides: dict[str, Any]) -> None:
-        self.worker = _Worker(llm, overrides)
+    def __init__(self, llm: str, overrides: dict[str, Any],
+                 perception: str = "ground-truth") -> None:
+        self.worker = _Worker(llm, overrides, perception)
 
     def run(self, job: EpisodeJob) -> dict[str, Any]:
         return self.worker.run(job)
@@ -295,7 +305,7 @@ def run_ray(cfg: ExecutorSettings, jobs: list[EpisodeJob]) -> Records:
                             "extra: pip install 'voxposer[ray]'") from exc
     ray.init(address=cfg.ray_address, ignore_reinit_error=True)
     actor_cls: Any = ray.remote(num_cpus=1)(_RayWorker)  # actor handles are untyped
-    actors = [actor_cls.remote(cfg.llm, cfg.llm_overrides)
+    actors = [actor_cls.remote(cfg.llm, cfg.llm_overrides, cfg.perception)
               for _ in range(min(cfg.workers, len(jobs)))]
     queue = list(jobs)
     pending: dict[Any, tuple[Any, EpisodeJob]] = {}

@@ -11,7 +11,10 @@ constraint are skipped). ``--seeds dev|test`` picks the seed set (``voxposer.ben
 failures|all`` records an MP4 per failed (or every) episode into ``<out>/videos/``, linked from
 the report's failure modes; ``--disturb`` runs the episodes with the paper's disturbances
 (Table 1; their records are ``disturbed`` and may share a file with static ones, and the report
-puts both side by side).
+puts both side by side). ``--suite multistep`` runs the multi-step instructions instead
+(:mod:`voxposer.bench.multistep`; ``--tasks`` then selects its entries): its records carry
+``suite: multistep`` and its report gives per-entry and per-step success and the fully-completed
+fraction.
 
 Every argument is checked before any work starts (:func:`check_args`; a bad one: one line and
 exit status 2). Ctrl-C, SIGINT (even in a background job that ignores it) and SIGTERM stop the
@@ -47,10 +50,12 @@ from rich.progress import (
 
 from voxposer.bench.attributes import SPLITS
 from voxposer.bench.methods import METHODS, REFERENCE_BLIND, REFERENCE_LLMS
+from voxposer.bench.multistep import ENTRIES
 from voxposer.bench.outputs import write_outputs
 from voxposer.bench.protocol import INSTRUCTION_SPLITS, SEED_SETS
 from voxposer.bench.results import load_records
 from voxposer.bench.runner import BenchConfig, run_bench
+from voxposer.bench.suites import MULTISTEP_SUITE, SUITES, TASKS_SUITE, check_suite, suite_names
 from voxposer.bench.tasks import TASKS
 from voxposer.cli.checks import (
     check_int,
@@ -62,6 +67,7 @@ from voxposer.cli.checks import (
 from voxposer.cli.interrupts import Interrupted, stop_signals
 from voxposer.cli.llm_options import add_llm_options, llm_overrides
 from voxposer.errors import ConfigError
+from voxposer.pipeline import PERCEPTIONS
 
 log = logging.getLogger(__name__)
 console = Console(stderr=True)
@@ -71,8 +77,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     """Register ``bench`` on an argparse sub-parsers object."""
     p: argparse.ArgumentParser = subparsers.add_parser(
         "bench", help="run the 13-task simulated benchmark (paper Table 4) and write a report")
+    p.add_argument("--suite", default=TASKS_SUITE,
+                   help=f"instruction suite, one of: {', '.join(SUITES)} ({TASKS_SUITE}: the 13 "
+                   f"tasks; {MULTISTEP_SUITE}: 2-3 step instructions, a check per step and "
+                   "for their order)")
     p.add_argument("--tasks", default="all",
-                   help=f"comma-separated task names or 'all' (tasks: {', '.join(TASKS)})")
+                   help=f"comma-separated task names of the suite or 'all' (tasks: "
+                   f"{', '.join(TASKS)}; {MULTISTEP_SUITE} entries: {', '.join(ENTRIES)})")
     p.add_argument("--splits", default="seen,unseen", help="seen, unseen or both")
     p.add_argument("--episodes", type=int, default=20, help="episodes per task and split")
     p.add_argument("--seeds", default=None,
@@ -110,6 +121,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    help="apply the paper's disturbances (robot push, object displacement, "
                    "reverting progress) on a schedule of each sub-task's progress; records are "
                    "marked disturbed, so --resume can add them beside static ones")
+    p.add_argument("--perception", choices=PERCEPTIONS, default="ground-truth",
+                   help="how objects are found: the simulator's segmentation (ground-truth) or "
+                   "RGB-D pixels only (colour-depth); recorded in every episode")
     p.add_argument("--no-plot", action="store_true", help="skip success.png")
     p.set_defaults(func=run, check=check_args)
     return p
@@ -157,8 +171,9 @@ def _names(value: str, option: str, known: tuple[str, ...]) -> tuple[str, ...]:
 
 
 def _config(args: argparse.Namespace) -> BenchConfig:
-    tasks = tuple(TASKS) if args.tasks.strip() == "all" else _names(args.tasks, "--tasks",
-                                                                     tuple(TASKS))
+    suite = check_suite(getattr(args, "suite", TASKS_SUITE))
+    known = suite_names(suite)
+    tasks = known if args.tasks.strip() == "all" else _names(args.tasks, "--tasks", known)
     overrides = llm_overrides(args)
     kwargs: dict[str, Any] = {}
     if args.workers is not None:
@@ -169,12 +184,14 @@ def _config(args: argparse.Namespace) -> BenchConfig:
                        pool=args.pool, ray_address=args.ray_address,
                        max_time_s=args.max_time, llm_overrides=overrides,
                        fresh_cache=args.fresh_cache, video=args.video, disturb=args.disturb,
-                       **kwargs)
+                       suite=suite, perception=args.perception, **kwargs)
 
 
 def _default_out(cfg: BenchConfig) -> str:
     """``<method>-<llm>`` plus the non-default seed set and instruction split."""
-    name = f"{cfg.method}-{cfg.llm}"
+    name = f"{cfg.method}-{cfg.llm}" + ("" if cfg.suite == TASKS_SUITE else f"-{cfg.suite}")
+    if cfg.perception != "ground-truth":
+        name += f"-{cfg.perception}"
     if cfg.seed_set != "dev":
         name += f"-{cfg.seed_set}"
     return name + ("" if cfg.instructions == "seen" else f"-{cfg.instructions}-instructions")

@@ -7,7 +7,8 @@ folder: ``rollout.mp4`` (one camera), ``subtask_NN.html`` (composed maps and pla
 sub-task), ``transcript.jsonl`` (prompts, responses, code, errors) and ``summary.json`` (with
 the ``scene`` it set up: which blocks, lines and open drawers, where, and why). The scene suits
 the instruction (:mod:`voxposer.cli.run_scene`); ``--drawer-open`` and ``--place`` override it.
-Exit status 0 only when every sub-task reached its target; 2 for a bad argument (checked before
+Exit status 0 only when every sub-task reached its target and every post-condition the plan
+stated held (``intent`` in ``summary.json``, :mod:`voxposer.lmp.intent`); 2 for a bad argument (checked before
 anything runs: :func:`check_args`).
 """
 
@@ -38,6 +39,10 @@ from voxposer.cli.llm_options import add_llm_options
 from voxposer.cli.run_scene import CLOSE_OPENING_M, SceneRequest, allowed_range, choose_scene
 from voxposer.errors import VoxPoserError
 
+#: ``--perception`` values (:data:`voxposer.pipeline.PERCEPTIONS`; kept here so the CLI's help
+#: needs no simulator import).
+PERCEPTION_CHOICES = ("ground-truth", "colour-depth")
+
 if TYPE_CHECKING:
     from voxposer.envs.layout import SceneLayout
 
@@ -64,6 +69,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
+    p.add_argument("--perception", choices=PERCEPTION_CHOICES, default="ground-truth",
+                   help="how objects are found: the simulator's segmentation (ground-truth) or "
+                   "RGB-D pixels only (colour-depth)")
     _add_scene_options(p)
     p.set_defaults(func=run, check=check_args)
     return p
@@ -186,6 +194,7 @@ def run(args: argparse.Namespace) -> int:
     summary: dict[str, Any] = {
         "instruction": args.instruction,
         "seed": args.seed,
+        "perception": args.perception,
         "success": False,
         "reason": "",
         "message": "",
@@ -250,7 +259,7 @@ def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
     summary["model"] = backend.model
     transcript = Transcript(out / "transcript.jsonl")
     runtime, executor = voxposer_runtime(
-        Embodiment.simulated(world), backend, rng,
+        Embodiment.simulated(world, args.perception), backend, rng,
         executor_config=ExecutorConfig(max_time_s=args.max_time), picture_dir=out,
         transcript=transcript)
     disturber = None
@@ -285,7 +294,14 @@ def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
             if done
             else "the programs never called execute()",
         )
+        failed = runtime.intent.failed()
+        if done and failed:  # success needs the targets reached and the post-conditions true
+            first = failed[0]
+            summary.update(success=False, reason="post_condition_failed",
+                           message=f"after {first.subtask!r}, the post-condition "
+                                   f"{first.condition} did not hold ({first.measured})")
     finally:
+        summary["intent"] = [r.to_json() for r in runtime.intent.results]
         if recorder is not None:
             recorder.close()
         backend.close()

@@ -15,6 +15,7 @@ from voxposer.errors import EmptyAffordanceError, ResultError
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.registry import LMPSpec
+from voxposer.perception.names import is_end_effector
 from voxposer.valuemaps.maps import check_value_map
 
 #: Largest velocity scale accepted (the paper's "3x speed" is the largest in its task list).
@@ -74,3 +75,29 @@ def check_map(kind: str, value: Any, grid: VoxelGrid) -> np.ndarray:
                               "voxel, e.g. from pointat2quat(...)")
         arr = arr / norms[..., None]
     return arr
+
+
+def check_execute_target(movable: Any, affordance: Any) -> None:
+    """Refuse an ``execute`` whose entity is already at its target: a movable object (not the
+    gripper) whose affordance targets all lie inside its own box, 1 voxel added. That is a small
+    model's "grasp the pink block" written with the block as the movable; nothing would move.
+
+    Args:
+        movable: the entity (:class:`ObjectView`, voxel ``aabb``), as ``execute`` received it.
+        affordance: the evaluated affordance map (grid shape) or None.
+
+    Raises:
+        ResultError: naming the entity and what to write instead.
+    """
+    name = str(getattr(movable, "name", ""))
+    aabb = getattr(movable, "aabb", None)
+    if affordance is None or aabb is None or is_end_effector(name):
+        return
+    targets = np.argwhere(np.asarray(affordance) > 0)
+    lo, hi = np.asarray(aabb[0]) - 1, np.asarray(aabb[1]) + 1
+    if len(targets) and bool(np.all((targets >= lo) & (targets <= hi))):
+        raise ResultError(
+            f"execute(): every affordance target lies inside the {name} itself, the movable "
+            f"entity, so nothing would move. The movable is what moves: to grasp or reach the "
+            f"{name}, move the gripper (`movable = parse_query_obj('gripper')`, with a gripper "
+            f"map to close it there); to move the {name}, target the place it should go")

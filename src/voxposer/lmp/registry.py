@@ -79,6 +79,11 @@ class LMPConfig:
         sandbox: limits of each execution of generated code.
         held_out_task: a benchmark task whose few-shot examples are removed from every prompt
             (its "unseen instruction" fold, :mod:`voxposer.lmp.prompt_tags`); None keeps all.
+        clause_checklist: ask the planner once more when its sub-tasks leave out a clause of
+            the instruction (:mod:`voxposer.lmp.checklist`).
+        resolve_exact_names: a ``parse_query_obj`` query that names a scene object exactly
+            (after the synonym table) is answered ``ret_val = detect(<name>)`` without the
+            model, recorded as a ``resolved`` transcript event.
     """
 
     max_attempts: int = 3
@@ -89,6 +94,8 @@ class LMPConfig:
     prompt_dir: str | None = None
     sandbox: SandboxConfig = field(default_factory=SandboxConfig)
     held_out_task: str | None = None
+    clause_checklist: bool = True
+    resolve_exact_names: bool = True
 
     def __post_init__(self) -> None:
         if self.held_out_task is not None and self.held_out_task not in TASK_NAMES:

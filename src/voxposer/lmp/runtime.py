@@ -34,22 +34,24 @@ from voxposer.errors import (
     LLMError,
     LMPFailedError,
     ProgramError,
-    SandboxError,
-    UnknownObjectError,
     UnresolvedObjectError,
 )
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
-from voxposer.lmp.checks import check_result
+from voxposer.lmp.checklist import PlanReview
+from voxposer.lmp.checks import check_execute_target, check_result
 from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.handoff import MAP_ARGUMENTS, ExecuteHandler, ExecutionRequest, RecordingHandler
+from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec
+from voxposer.lmp.runtime_errors import NoRetry, NothingFound, describe, give_up, is_nothing
 from voxposer.lmp.sandbox import Sandbox, suspend_time_limit
 from voxposer.lmp.scene import Scene
 from voxposer.lmp.transcript import Transcript
+from voxposer.perception.names import normalize_name
 
 logger = logging.getLogger(__name__)
 
@@ -88,6 +90,7 @@ class LMPRuntime:
         self.config = config or LMPConfig()
         self.transcript = transcript or Transcript()
         self.api = LMPAPI(scene)
+        self.intent = IntentChecks(self.api)
         self.sandbox = Sandbox(self.config.sandbox)
         self.llm_calls = 0
         self.code_cache: dict[tuple[str, str], str] = {}
@@ -101,18 +104,36 @@ class LMPRuntime:
 
     # ------------------------------------------------------------------ public entry points
     def run(self, instruction: str) -> None:
-        """Plan ``instruction`` into sub-tasks and carry each out (planner → composer → execute)."""
-        self.query("planner", instruction)
+        """Plan ``instruction`` into sub-tasks and carry each out (planner → composer → execute);
+        the post-conditions the plan states are in ``intent.results`` (and the transcript)."""
+        try:
+            self.query("planner", instruction)
+        finally:
+            for result in self.intent.results:
+                self.transcript.write("intent", **result.to_json())
 
     def query(self, lmp: str, query: str) -> Any:
         """The current result of ``lmp(query)``: cached code re-run, or generated (LLM) first."""
-        if (lmp, query) in self.code_cache:
+        if (lmp, query) in self.code_cache or self._resolved(lmp, query):
             return self.replay(lmp, query)
         return self._generate(get_spec(lmp), query)
 
+    def _resolved(self, lmp: str, query: str) -> bool:
+        """Whether ``parse_query_obj(query)`` names a scene object exactly (after the synonym
+        table) and is now cached as ``ret_val = detect(<name>)``, without the model."""
+        if lmp != "parse_query_obj" or not self.config.resolve_exact_names:
+            return False
+        key = normalize_name(query)
+        exact = next((n for n in self.scene.object_names if normalize_name(n) == key), None)
+        if exact is None:
+            return False
+        self.code_cache[(lmp, query)] = f"ret_val = detect({exact!r})"
+        self.transcript.write("resolved", lmp=lmp, query=query, name=exact)
+        return True
+
     def program(self, lmp: str, query: str) -> ValueMapProgram:
         """A re-evaluable program for ``lmp(query)`` (generated and checked now if not cached)."""
-        if (lmp, query) not in self.code_cache:
+        if (lmp, query) not in self.code_cache and not self._resolved(lmp, query):
             self._generate(get_spec(lmp), query)
         cls = ObjectProgram if get_spec(lmp).role == "object" else ValueMapProgram
         return cls(self, lmp, query, self.code_cache[(lmp, query)])
@@ -123,7 +144,7 @@ class LMPRuntime:
         try:
             return self._evaluate(spec, query, code, attempt=0, replay=True)
         except Exception as exc:
-            raise LMPFailedError(lmp, query, [{"code": code, "error": _describe(exc)}]) from exc
+            raise LMPFailedError(lmp, query, [{"code": code, "error": describe(exc)}]) from exc
 
     def prompt(self, lmp: str) -> Prompt:
         """The (cached) prompt of ``lmp``, without the examples of ``config.held_out_task``."""
@@ -143,12 +164,23 @@ class LMPRuntime:
         messages = list(base)
         attempts: list[dict[str, str]] = []
         last: BaseException | None = None
+        review = PlanReview(query, self.config.max_attempts) \
+            if spec.name == "planner" and self.config.clause_checklist else None
         self._depth += 1
         try:
             for attempt in range(1, self.config.max_attempts + 1):
                 text = self._complete(spec, query, messages, n_prefix=len(base) - 1,
                                       attempt=attempt)
                 code = extract_code(text)
+                if review is not None:
+                    code, gap_message, gaps = review.review(code, attempt)
+                    if gaps:
+                        self.transcript.write("checklist", query=query, attempt=attempt,
+                                              gaps=[g.describe() for g in gaps])
+                    if gap_message is not None:
+                        messages += [ChatMessage("assistant", text),
+                                     ChatMessage("user", RETRY_MESSAGE.format(error=gap_message))]
+                        continue
                 effects = self._side_effects
                 try:
                     value = self._evaluate(spec, query, code, attempt=attempt, replay=False)
@@ -157,12 +189,12 @@ class LMPRuntime:
                     # failed: no retry here, the caller sees that error itself
                     raise
                 except Exception as exc:
-                    attempts.append({"code": code, "error": _describe(exc)})
-                    cause = exc.original if isinstance(exc, _NoRetry) else exc
-                    settled = isinstance(cause, _NothingFound) and isinstance(last, _NothingFound)
+                    attempts.append({"code": code, "error": describe(exc)})
+                    cause = exc.original if isinstance(exc, NoRetry) else exc
+                    settled = isinstance(cause, NothingFound) and isinstance(last, NothingFound)
                     last = cause
-                    if self._side_effects != effects or isinstance(exc, _NoRetry) or settled:
-                        raise _give_up(spec.name, query, attempts, cause) from cause
+                    if self._side_effects != effects or isinstance(exc, NoRetry) or settled:
+                        raise give_up(spec.name, query, attempts, cause) from cause
                     logger.info("%s(%r) attempt %d failed: %s", spec.name, query, attempt,
                                 attempts[-1]["error"])
                     messages += [ChatMessage("assistant", text),
@@ -172,7 +204,7 @@ class LMPRuntime:
                 return value
         finally:
             self._depth -= 1
-        raise _give_up(spec.name, query, attempts, last) from last
+        raise give_up(spec.name, query, attempts, last) from last
 
     def _complete(self, spec: LMPSpec, query: str, messages: list[ChatMessage], n_prefix: int,
                   attempt: int) -> str:
@@ -194,11 +226,11 @@ class LMPRuntime:
         error = None
         try:
             namespace = self.sandbox.run(code, self._variables(spec, query))
-            if spec.role == "object" and _is_nothing(namespace.get(spec.result_name or "", 0)):
-                raise _NothingFound(query, self.scene.object_names)
+            if spec.role == "object" and is_nothing(namespace.get(spec.result_name or "", 0)):
+                raise NothingFound(query, self.scene.object_names)
             return check_result(spec, namespace, self.scene.grid)
         except Exception as exc:
-            error = _describe(exc)
+            error = describe(exc)
             raise
         finally:
             self.transcript.write("exec", lmp=spec.name, query=query, attempt=attempt, code=code,
@@ -217,7 +249,8 @@ class LMPRuntime:
             out["execute"] = self._make_execute(query)
             out["reset_to_default_pose"] = self._reset
         elif spec.role == "planner":
-            out = {"composer": self._composer, "reset_to_default_pose": self._reset}
+            out = {"composer": self._composer, "reset_to_default_pose": self._reset,
+                   **self.intent.namespace(_untimed)}
         if spec.with_objects:
             out["objects"] = list(self.scene.object_names)
         return out
@@ -239,6 +272,7 @@ class LMPRuntime:
     def _composer(self, subtask: str) -> None:
         self._side_effects += 1
         with suspend_time_limit():
+            self.intent.begin_subtask(str(subtask))
             previous, self._subtask = self._subtask, str(subtask)
             try:
                 self.query("composer", str(subtask))
@@ -251,7 +285,7 @@ class LMPRuntime:
             try:
                 self.handler.reset_to_default_pose()
             except Exception as exc:
-                raise _NoRetry(exc) from exc
+                raise NoRetry(exc) from exc
 
     def _make_execute(self, subtask: str) -> Any:
         def execute(movable: Any, **maps: Any) -> None:
@@ -262,6 +296,9 @@ class LMPRuntime:
             request = ExecutionRequest(
                 subtask=subtask, movable=self._as_callable(movable, "parse_query_obj"),
                 maps={k: self._as_callable(v, k) for k, v in maps.items() if v is not None})
+            with suspend_time_limit():  # before any side effect: the model may still fix it
+                affordance = request.maps.get("affordance_map")
+                check_execute_target(request.movable(), affordance() if affordance else None)
             self._side_effects += 1
             with suspend_time_limit():
                 try:
@@ -269,7 +306,8 @@ class LMPRuntime:
                 except Exception as exc:
                     self.transcript.write("execute", subtask=subtask, success=False,
                                           message=f"{type(exc).__name__}: {exc}")
-                    raise _NoRetry(exc) from exc
+                    raise NoRetry(exc) from exc
+            self.intent.add_execution(outcome)
             self.transcript.write("execute", subtask=subtask,
                                   success=bool(getattr(outcome, "success", True)),
                                   message=str(getattr(outcome, "message", "")))
@@ -286,43 +324,10 @@ class LMPRuntime:
                           f"{type(value).__name__}")
 
 
-class _NothingFound(UnknownObjectError):
-    """Object code that found nothing (``ret_val`` None or empty) for its query."""
-
-
-def _is_nothing(value: Any) -> bool:
-    """Whether an object LMP's result says "no such object": None or an empty list/tuple."""
-    return value is None or (isinstance(value, list | tuple) and not value)
-
-
-def _give_up(lmp: str, query: str, attempts: list[dict[str, str]],
-             cause: BaseException | None) -> LMPFailedError | UnresolvedObjectError:
-    """The error of an LMP that gives up: an unknown object stays one (for every enclosing LMP
-    to pass on), anything else is an :class:`LMPFailedError` with every attempt."""
-    if isinstance(cause, UnknownObjectError):
-        return UnresolvedObjectError(cause.name, cause.known, lmp=lmp, query=query,
-                                     attempts=attempts)
-    return LMPFailedError(lmp, query, attempts)
-
-
-class _NoRetry(Exception):
-    """Wraps a failure of the execute handler so it propagates without self-correction."""
-
-    def __init__(self, original: BaseException) -> None:
-        super().__init__(str(original))
-        self.original = original
-
-
-def _describe(exc: BaseException) -> str:
-    if isinstance(exc, _NoRetry):
-        exc = exc.original
-    if isinstance(exc, _NothingFound):
-        return (f"UnknownObjectError: {exc} (`ret_val` holds no object). Assign "
-                "`ret_val = detect(<one of those names>)` if one of them is meant; if none is, "
-                "leave `ret_val = None`")
-    if isinstance(exc, SyntaxError) and not isinstance(exc, SandboxError):
-        return f"SyntaxError: {exc.msg} (line {exc.lineno}: {(exc.text or '').strip()})"
-    if isinstance(exc, ValueError) and "read-only" in str(exc):
-        return (f"{type(exc).__name__}: {exc} (a detected object's arrays cannot be changed: "
-                "copy one first, e.g. `p = obj.position.copy()`, and change the copy)")
-    return f"{type(exc).__name__}: {exc}"
+def _untimed(fn: Any) -> Any:
+    """``fn`` run outside the sandbox's time limit (trusted code that perceives)."""
+    def call(*args: Any, **kwargs: Any) -> Any:
+        with suspend_time_limit():
+            return fn(*args, **kwargs)
+    call.__name__ = getattr(fn, "__name__", "helper")
+    return call

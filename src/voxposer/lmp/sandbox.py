@@ -16,6 +16,10 @@ Every violation raises :class:`voxposer.errors.SandboxError` naming the refused 
 Ordinary exceptions of the code itself (``NameError``, ``IndexError``…) propagate unchanged so
 that self-correction can show them to the model.
 
+With ``SandboxConfig(isolation="process")`` the same checks run inside a persistent worker
+process with OS limits on memory, CPU time, open files and file writes
+(:mod:`voxposer.lmp.sandbox_process`): a second layer, should the first be escaped.
+
 Usable alone::
 
     sandbox = Sandbox()
@@ -33,7 +37,7 @@ import time
 import types
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Final, Literal
 
 import numpy as np
 from RestrictedPython import PrintCollector
@@ -55,6 +59,9 @@ from voxposer.lmp.sandbox_work import WorkGuard
 
 logger = logging.getLogger(__name__)
 
+#: The values of ``SandboxConfig.isolation``.
+ISOLATION_MODES: Final = ("inline", "process")
+
 
 @dataclass(frozen=True)
 class SandboxConfig:
@@ -70,11 +77,21 @@ class SandboxConfig:
             convolution (:mod:`voxposer.lmp.sandbox_work`). The default, 1e9, is about a second
             of CPU and far above what value-map code on a 100 x 100 x 100 grid needs (sorting
             all 1e6 voxels is 2e7; their coordinates times a 3 x 3 matrix, 9e6).
+        isolation: "inline" runs the code in this process (fast); "process" runs it in a
+            worker process under the OS limits below as well (:mod:`voxposer.lmp.
+            sandbox_process`; measured cost in the README).
+        memory_limit_mb: address space of the worker process [MiB] ("process" only).
+        cpu_limit_s: CPU time one run may take in the worker [s] ("process" only).
+        max_open_files: file descriptors the worker may hold ("process" only).
     """
 
     time_limit_s: float = 10.0
     max_elements: int = 64_000_000
     max_work: int = 1_000_000_000
+    isolation: Literal["inline", "process"] = "inline"
+    memory_limit_mb: int = 4096
+    cpu_limit_s: float = 30.0
+    max_open_files: int = 64
 
     def __post_init__(self) -> None:
         if not (isinstance(self.time_limit_s, int | float) and 0 < self.time_limit_s <= 3600):
@@ -87,6 +104,23 @@ class SandboxConfig:
                 and self.max_work >= 1_000_000):
             raise ConfigError(f"SandboxConfig.max_work must be an int >= 1,000,000 "
                               f"[operations]; got {self.max_work!r}")
+        if self.isolation not in ISOLATION_MODES:
+            raise ConfigError(f"SandboxConfig.isolation must be one of {ISOLATION_MODES}; got "
+                              f"{self.isolation!r}")
+        if not (_is_int(self.memory_limit_mb) and 256 <= self.memory_limit_mb <= 1 << 20):
+            raise ConfigError(f"SandboxConfig.memory_limit_mb must be an int in [256, 1048576] "
+                              f"[MiB]; got {self.memory_limit_mb!r}")
+        if not (isinstance(self.cpu_limit_s, int | float) and not isinstance(self.cpu_limit_s, bool)
+                and 1 <= self.cpu_limit_s <= 3600):
+            raise ConfigError(f"SandboxConfig.cpu_limit_s must be in [1, 3600] [s]; got "
+                              f"{self.cpu_limit_s!r}")
+        if not (_is_int(self.max_open_files) and 16 <= self.max_open_files <= 65536):
+            raise ConfigError(f"SandboxConfig.max_open_files must be an int in [16, 65536]; got "
+                              f"{self.max_open_files!r}")
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
 
 
 # ----------------------------------------------------------------------------- time limit
@@ -160,6 +194,7 @@ class Sandbox:
 
     def __init__(self, config: SandboxConfig | None = None) -> None:
         self.config = config or SandboxConfig()
+        self._process: Any = None  # the ProcessSandbox of isolation="process", made on first use
         self.limits = Limits(SizeGuard(self.config.max_elements),
                              WorkGuard(self.config.max_work))
         self.numpy = NumpyProxy(np, self.limits)
@@ -205,6 +240,8 @@ class Sandbox:
                 code recursed too deeply.
             SyntaxError, Exception: whatever the generated code itself raised.
         """
+        if self.config.isolation == "process":
+            return self._isolated().run(code, variables)
         compiled = compile_sandboxed(code) if isinstance(code, str) else code
         namespace = self.base_globals()
         for key in variables:
@@ -226,3 +263,19 @@ class Sandbox:
             sys.settrace(previous)
             stack.pop()
         return namespace
+
+    def _isolated(self) -> Any:
+        if self._process is None:
+            from voxposer.lmp.sandbox_process import ProcessSandbox
+            self._process = ProcessSandbox(self, type(self), suspend_time_limit)
+        return self._process
+
+    @property
+    def worker_pid(self) -> int | None:
+        """Process id of the ``isolation="process"`` worker (None: inline, or none running)."""
+        return self._process.worker_pid if self._process is not None else None
+
+    def close(self) -> None:
+        """Stop the worker process of ``isolation="process"`` (a later run starts a new one)."""
+        if self._process is not None:
+            self._process.close()

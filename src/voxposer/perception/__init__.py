@@ -5,11 +5,14 @@ Public API:
 * :class:`Observation`, :class:`CameraFrame` (what a robot's cameras report)
 * :class:`PointCloud`, :func:`fuse_views`, :func:`backproject`, :func:`camera_normals`
 * :class:`Perceiver` and :class:`ObservationSource` (the seam), :class:`SegmentationPerceiver`
-  (detection from a segmentation channel: the simulator's ground truth)
+  (detection from a segmentation channel: the simulator's ground truth),
+  :class:`ColourDepthPerceiver` (detection from RGB-D pixels only: colour words, depth clusters,
+  a cabinet fit)
 * :class:`DetectedObject` (a frozen dataclass that also reads like a dict), :func:`detect_in_cloud`
 * :func:`scene_occupancy`, :func:`match_name`, :func:`normalize_name`, :func:`is_end_effector`
 """
 
+from voxposer.perception.colour_depth import ColourDepthPerceiver
 from voxposer.perception.detect import DetectedObject, detect_in_cloud
 from voxposer.perception.names import is_end_effector, match_name, normalize_name
 from voxposer.perception.observation import CameraFrame, Observation
@@ -25,6 +28,7 @@ from voxposer.perception.segmentation import SegmentationPerceiver
 
 __all__ = [
     "CameraFrame",
+    "ColourDepthPerceiver",
     "DetectedObject",
     "Observation",
     "ObservationSource",

@@ -46,16 +46,20 @@ class CloseDrawer(BenchTask):
         return Verdict(ok, f"the {which} drawer is open {opening * 100:.1f} cm", {"opening": opening})
 
     def reference(self, attrs: dict[str, str]) -> Programs:
-        which = DEIXIS_DRAWER[attrs["deixis"]]
-        subtask = f"push the {which} drawer handle 25cm in the +y direction"
-        progs = one_subtask(Programs(), self.instruction(attrs), subtask, reset=True)
-        query = f"a point 25cm in the +y direction from the {which} drawer handle"
-        progs.add("composer", subtask, f"movable = parse_query_obj('{which} drawer handle')",
-                  f"affordance_map = get_affordance_map('{query}')",
-                  "execute(movable, affordance_map=affordance_map)")
-        return progs.add("get_affordance_map", query,
-                         "affordance_map = get_empty_affordance_map()",
-                         f"handle = parse_query_obj('{which} drawer handle')",
-                         "x, y, z = handle.position",
-                         "affordance_map[x, y + cm2index(25, 'y'), z] = 1",
-                         "ret_val = affordance_map")
+        progs = Programs()
+        subtask = push_handle_programs(progs, DEIXIS_DRAWER[attrs["deixis"]])
+        return one_subtask(progs, self.instruction(attrs), subtask, reset=True)
+
+
+def push_handle_programs(progs: Programs, which: str) -> str:
+    """Composer + map programs pushing the ``which`` drawer's handle 25 cm in +y (closing it);
+    returns the sub-task."""
+    subtask = f"push the {which} drawer handle 25cm in the +y direction"
+    query = f"a point 25cm in the +y direction from the {which} drawer handle"
+    progs.add("composer", subtask, f"movable = parse_query_obj('{which} drawer handle')",
+              f"affordance_map = get_affordance_map('{query}')",
+              "execute(movable, affordance_map=affordance_map)")
+    progs.add("get_affordance_map", query, "affordance_map = get_empty_affordance_map()",
+              f"handle = parse_query_obj('{which} drawer handle')", "x, y, z = handle.position",
+              "affordance_map[x, y + cm2index(25, 'y'), z] = 1", "ret_val = affordance_map")
+    return subtask

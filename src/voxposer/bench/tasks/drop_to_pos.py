@@ -19,7 +19,7 @@ from voxposer.bench.tasks.grasp_at_velocity import grasp_programs
 from voxposer.bench.tasks.push_to_pos import push_start
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.places import get_place
+from voxposer.places import Place, get_place
 
 #: Height above the table the block is carried to before it is released [cm].
 CARRY_CM = 10
@@ -48,24 +48,29 @@ class DropToPos(BenchTask):
 
     def reference(self, attrs: dict[str, str]) -> Programs:
         obj, place = attrs["obj"], get_place(attrs["pos"])
-        carry = f"move the {obj} to a point {CARRY_CM}cm above the {place.name}"
-        progs = Programs().add(
-            "planner", self.instruction(attrs), f"composer('grasp the {obj}')",
-            "composer('back to default pose')", f"composer('{carry}')",
-            f"composer('release the {obj}')", "composer('back to default pose')")
+        progs = Programs()
+        subtasks = [f"grasp the {obj}", "back to default pose",
+                    *carry_and_release_programs(progs, obj, place), "back to default pose"]
+        progs.add("planner", self.instruction(attrs), *(f"composer('{s}')" for s in subtasks))
         progs.add("composer", "back to default pose", "reset_to_default_pose()")
-        grasp_programs(progs, obj)
-        aff = place_query(place.name, CARRY_CM)
-        gripper_composer(progs, carry, {"affordance": aff, "gripper": "close everywhere"})
-        progs.add("get_affordance_map", aff, *affordance_at_place(place, CARRY_CM))
-        progs.add("get_gripper_map", "close everywhere", "gripper_map = get_empty_gripper_map()",
-                  "gripper_map[:] = 1", "ret_val = gripper_map")
-        # Release toward a fixed point: "5cm above the gripper" (the composer prompt's example)
-        # is re-evaluated at every replanning step in closed loop and runs away upward.
-        above = place_query(place.name, CARRY_CM + 5)
-        gripper_composer(progs, f"release the {obj}",
-                         {"affordance": above, "gripper": "open everywhere"})
-        progs.add("get_affordance_map", above, *affordance_at_place(place, CARRY_CM + 5))
-        return progs.add("get_gripper_map", "open everywhere",
-                         "gripper_map = get_empty_gripper_map()", "gripper_map[:] = 0",
-                         "ret_val = gripper_map")
+        return grasp_programs(progs, obj)
+
+
+def carry_and_release_programs(progs: Programs, obj: str, place: Place) -> list[str]:
+    """Composer + map programs carrying the held ``obj`` to ``CARRY_CM`` above ``place`` and
+    releasing it there; returns the two sub-tasks (carry, release)."""
+    carry = f"move the {obj} to a point {CARRY_CM}cm above the {place.name}"
+    aff = place_query(place.name, CARRY_CM)
+    gripper_composer(progs, carry, {"affordance": aff, "gripper": "close everywhere"})
+    progs.add("get_affordance_map", aff, *affordance_at_place(place, CARRY_CM))
+    progs.add("get_gripper_map", "close everywhere", "gripper_map = get_empty_gripper_map()",
+              "gripper_map[:] = 1", "ret_val = gripper_map")
+    # Release toward a fixed point: "5cm above the gripper" (the composer prompt's example)
+    # is re-evaluated at every replanning step in closed loop and runs away upward.
+    above = place_query(place.name, CARRY_CM + 5)
+    gripper_composer(progs, f"release the {obj}",
+                     {"affordance": above, "gripper": "open everywhere"})
+    progs.add("get_affordance_map", above, *affordance_at_place(place, CARRY_CM + 5))
+    progs.add("get_gripper_map", "open everywhere", "gripper_map = get_empty_gripper_map()",
+              "gripper_map[:] = 0", "ret_val = gripper_map")
+    return [carry, f"release the {obj}"]

@@ -1,0 +1,146 @@
+"""Perception from RGB-D pixels alone: colour words, depth clusters and a cabinet fit.
+
+:class:`ColourDepthPerceiver` is a :class:`~voxposer.perception.perceiver.Perceiver` that reads
+only each view's RGB, depth, intrinsics and extrinsics and the robot's own end-effector pose
+(never the segmentation channel, the simulator's state or its list of objects). It finds the
+catalog's coloured blocks and lines by colour and 3-D shape, the cabinet (a known fixture) with
+its drawers' openings measured from depth, the table and the robot
+(:mod:`voxposer.perception.pixel_labels`); everything downstream (``detect``, obstacles,
+sliding directions) works on its labelled cloud as on the ground-truth one.
+
+The objects it knows are those it has seen: every object found in some observation since it was
+made stays nameable (an object the gripper hides for a while is still there), and ``detect``
+of one not seen now raises :class:`~voxposer.errors.ObjectNotVisibleError`; a name never seen
+raises :class:`~voxposer.errors.UnknownObjectError`.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+from numpy.typing import NDArray
+
+from voxposer import catalog
+from voxposer.errors import ObjectNotVisibleError
+from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.perception.detect import DetectedObject, detect_in_cloud
+from voxposer.perception.names import match_name
+from voxposer.perception.observation import Observation
+from voxposer.perception.perceiver import ObservationSource
+from voxposer.perception.pixel_labels import PixelLabels, label_pixels
+from voxposer.perception.point_cloud import PointCloud
+from voxposer.perception.scene_occupancy import scene_occupancy
+from voxposer.perception.segmentation import dominant_normal
+
+log = logging.getLogger(__name__)
+
+#: The names a scene always has: the table and the robot observing it.
+_FIXED = ("table", "robot", "gripper")
+_LABEL_NAMES = tuple(o.name for o in catalog.OBJECTS)
+
+
+class ColourDepthPerceiver:
+    """A :class:`~voxposer.perception.perceiver.Perceiver` detecting objects from RGB and depth
+    pixels (colour segmentation, depth clustering, a cabinet fit); weight-free.
+
+    Args:
+        source: what observes the scene; asked for colour (``observe(rgb=True)``).
+        grid: the workspace grid; the fused cloud is cropped to it.
+    """
+
+    def __init__(self, source: ObservationSource, grid: VoxelGrid) -> None:
+        self.source = source
+        self._grid = grid
+        self._obs: Observation | None = None
+        self._labels: PixelLabels | None = None
+        self._known: dict[str, None] = dict.fromkeys(_FIXED)
+        self._openings: dict[str, float] = {}
+        #: time [ms] each labelling took (one per new observation)
+        self.label_times_ms: list[float] = []
+
+    @property
+    def grid(self) -> VoxelGrid:
+        return self._grid
+
+    @property
+    def object_names(self) -> tuple[str, ...]:
+        """Every object seen since this perceiver was made (table, robot, gripper always), in
+        catalog order."""
+        self._labelled()
+        return tuple(n for n in _LABEL_NAMES if n in self._known)
+
+    def observe(self) -> Observation:
+        obs = self.source.observe(rgb=True)
+        if obs is not self._obs:
+            self._obs, self._labels = obs, None
+        return obs
+
+    def _labelled(self) -> PixelLabels:
+        obs = self.observe()
+        if self._labels is None:
+            start = time.perf_counter()
+            self._labels = label_pixels(obs, self._grid, self._openings)
+            self.label_times_ms.append((time.perf_counter() - start) * 1e3)
+            self._openings.update(self._labels.openings)
+            new = [n for n in self._labels.seen if n not in self._known]
+            if new:
+                log.debug("colour-depth perception found: %s", ", ".join(new))
+            self._known.update(dict.fromkeys(self._labels.seen))
+            if self._labels.cabinet:
+                self._known.update(dict.fromkeys(catalog.family("cabinet")))
+        return self._labels
+
+    def point_cloud(self) -> PointCloud:
+        """The fused cloud, labelled from pixels (labels index :data:`catalog.OBJECTS`)."""
+        return self._labelled().cloud
+
+    def drawer_opening(self, drawer: str) -> float:
+        """How far ``drawer`` ("top", "top drawer") is open [m], as measured from depth.
+
+        Raises:
+            UnknownObjectError: not a drawer this perceiver has seen (lists the known names).
+            ObjectNotVisibleError: no camera has seen the drawer's front yet.
+        """
+        labels = self._labelled()
+        canonical = match_name(drawer if "drawer" in drawer else f"{drawer} drawer",
+                               self.object_names)
+        which = canonical.removesuffix(" drawer handle").removesuffix(" drawer")
+        if which not in self._openings:
+            raise ObjectNotVisibleError(f"no camera has seen the front of the {which} drawer")
+        return labels.openings.get(which, self._openings[which])
+
+    def detect(self, name: str) -> DetectedObject:
+        """Find ``name`` ("blue block", "the top drawer's handle"…) among the pixels' objects.
+
+        Raises:
+            UnknownObjectError: the name matches no object seen (lists them).
+            ObjectNotVisibleError: the object was seen before but no camera sees it now.
+        """
+        canonical = match_name(name, self.object_names)
+        cloud = self.point_cloud()
+        members = set(catalog.family(canonical))
+        labels = np.asarray([k for k, n in enumerate(_LABEL_NAMES) if n in members],
+                            dtype=np.int32)
+        sliding = catalog.object_named(canonical).kind in catalog.SLIDING_KINDS
+        return detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
+
+    def scene_occupancy(self, entity: str, *, holding: bool, ignore_table: bool = False
+                        ) -> NDArray[np.bool_]:
+        obs = self.observe()
+        return scene_occupancy(self.point_cloud(), _LABEL_NAMES, obs.ee_position, self._grid,
+                               entity=entity, holding=holding, ignore_table=ignore_table)
+
+    def sliding_axis(self, name: str) -> NDArray[np.float64] | None:
+        """The outward normal of a drawer's front (for a drawer or its handle), as measured;
+        None for objects that do not slide."""
+        canonical = match_name(name, self.object_names)
+        obj = catalog.object_named(canonical)
+        if obj.kind not in catalog.SLIDING_KINDS:
+            return None
+        drawer = obj.parent if obj.kind == "handle" and obj.parent is not None else obj.name
+        return dominant_normal(np.asarray(self.detect(drawer).normals, dtype=np.float64))
+
+
+__all__ = ["ColourDepthPerceiver"]

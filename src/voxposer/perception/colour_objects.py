@@ -1,0 +1,132 @@
+"""Coloured blocks and lines from a fused cloud of colour-labelled points: 3-D clusters per
+colour word, told apart by shape.
+
+A line is flat on the table (its paint is 2 mm thick); a block is a compact 5 cm cube, resting
+on the table or carried. For each colour word: the points raised above the table cluster into
+the block (the largest compact cluster, with touching fragments), the block's flat points just
+above the table stay with it, and the remaining flat points are the line (all its fragments: an
+object lying across a line cuts it in two). A gray block is the one compact achromatic cluster
+that is not part of the (equally gray) robot; a gray line a thin flat achromatic strip.
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+
+from voxposer.catalog import COLOR_NAMES
+from voxposer.perception.clusters import box_gap, cluster_points
+from voxposer.perception.colour_names import GRAY
+
+#: Points below this height [m] lie flat on the table (a line's top is at 2 mm).
+FLAT_Z_M: Final = 0.005
+#: A block's box is at most this large along any axis [m] (a 5 cm cube seen from any side).
+BLOCK_MAX_EXTENT_M: Final = 0.09
+#: Fewest points of a block's main cluster and of any line fragment.
+MIN_BLOCK_POINTS: Final = 20
+MIN_LINE_POINTS: Final = 8
+#: Fragments this close [m] to a block's main cluster are part of it.
+FRAGMENT_GAP_M: Final = 0.02
+#: Line fragments within this distance [m] of the largest fragment's centre are one line.
+LINE_REACH_M: Final = 0.22
+#: A gray line is at most this wide [m] (lines are 1.2 cm wide) and this long [m].
+LINE_MAX_WIDTH_M: Final = 0.03
+LINE_MAX_LENGTH_M: Final = 0.24
+#: A gray block's cluster spans at least this much in x and in y [m] (its top face is 5 cm
+#: square at any yaw); a gray finger of the robot, cut off from its hand, spans less.
+GRAY_MIN_SPAN_M: Final = 0.03
+
+
+def _compact(points: NDArray[np.float64]) -> bool:
+    return bool(np.all(np.ptp(points, axis=0) <= BLOCK_MAX_EXTENT_M))
+
+
+def _block_members(points: NDArray[np.float64], raised: NDArray[np.bool_], gray: bool
+                   ) -> NDArray[np.bool_]:
+    """Which of one colour's ``points`` (shape (N, 3)) are its block: the largest compact
+    cluster of the raised points, touching fragments, and flat points under its footprint.
+    For ``gray`` the cluster must also be broad (:data:`GRAY_MIN_SPAN_M`), not a finger."""
+    members = np.zeros(len(points), dtype=bool)
+    idx = np.flatnonzero(raised)
+    clusters = cluster_points(points[idx])
+    main = None
+    for k in range(clusters.n_clusters):
+        if clusters.sizes[k] < MIN_BLOCK_POINTS:
+            break
+        pts = points[idx[clusters.labels == k]]
+        broad = not gray or bool(np.all(np.ptp(pts[:, :2], axis=0) >= GRAY_MIN_SPAN_M))
+        if _compact(pts) and broad:
+            main = k
+            break
+    if main is None:
+        return members
+    core = points[idx[clusters.labels == main]]
+    for k in range(clusters.n_clusters):
+        pts = points[idx[clusters.labels == k]]
+        if k == main or (box_gap(core, pts) <= FRAGMENT_GAP_M and _compact(np.vstack([core, pts]))):
+            members[idx[clusters.labels == k]] = True
+    block = points[members]
+    lo, hi = block.min(axis=0)[:2] - 0.006, block.max(axis=0)[:2] + 0.006
+    under = ~raised & np.all((points[:, :2] >= lo) & (points[:, :2] <= hi), axis=1)
+    return members | under
+
+
+def _thin_strip(points: NDArray[np.float64]) -> bool:
+    """Whether points (shape (N, 3)) form a strip no wider and longer than a line."""
+    xy = points[:, :2] - points[:, :2].mean(axis=0)
+    axes = np.linalg.svd(xy, full_matrices=False)[2]
+    spans = np.ptp(xy @ axes.T, axis=0)
+    return bool(spans[0] <= LINE_MAX_LENGTH_M and spans[-1] <= LINE_MAX_WIDTH_M)
+
+
+def _line_members(points: NDArray[np.float64], flat: NDArray[np.bool_], gray: bool
+                  ) -> NDArray[np.bool_]:
+    """Which of one colour's flat ``points`` are its line: every fragment within reach of the
+    largest (for gray, only thin strips count)."""
+    members = np.zeros(len(points), dtype=bool)
+    idx = np.flatnonzero(flat)
+    clusters = cluster_points(points[idx])
+    keep = [k for k in range(clusters.n_clusters) if clusters.sizes[k] >= MIN_LINE_POINTS
+            and (not gray or _thin_strip(points[idx[clusters.labels == k]]))]
+    if not keep:
+        return members
+    centre = points[idx[clusters.labels == keep[0]]].mean(axis=0)
+    for k in keep:
+        pts = points[idx[clusters.labels == k]]
+        if np.linalg.norm(pts.mean(axis=0) - centre) <= LINE_REACH_M:
+            members[idx[clusters.labels == k]] = True
+    return members
+
+
+def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32]
+                          ) -> dict[str, NDArray[np.int64]]:
+    """Blocks and lines among colour-labelled points.
+
+    Args:
+        points: fused world points [m], shape (N, 3) (the table top is z = 0).
+        colours: colour word of each point, shape (N,): an index into :data:`COLOR_NAMES`, or
+            negative for none.
+
+    Returns:
+        object name ("blue block", "gray line") → indices into ``points`` of its points, for
+        every object found.
+    """
+    found: dict[str, NDArray[np.int64]] = {}
+    for k, colour in enumerate(COLOR_NAMES):
+        idx = np.flatnonzero(colours == k)
+        if len(idx) == 0:
+            continue
+        pts = points[idx]
+        raised = pts[:, 2] >= FLAT_Z_M
+        block = _block_members(pts, raised, gray=k == GRAY)
+        if block.any():
+            found[f"{colour} block"] = idx[block]
+        line = _line_members(pts, ~raised & ~block, gray=k == GRAY)
+        if line.any():
+            found[f"{colour} line"] = idx[line]
+    return found
+
+
+__all__ = ["FLAT_Z_M", "find_blocks_and_lines"]

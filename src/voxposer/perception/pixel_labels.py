@@ -1,0 +1,129 @@
+"""Object labels for a fused cloud from RGB and depth alone (no segmentation channel).
+
+Each view's pixels get a colour word (:func:`~voxposer.perception.colour_names.colour_labels`);
+the views are fused into one world cloud carrying those colour words; then, in order:
+
+1. coloured blocks and lines: 3-D clusters per colour word, told apart by shape
+   (:mod:`voxposer.perception.colour_objects`);
+2. the cabinet, its drawers and handles: a fit to depth in the fixture's box
+   (:mod:`voxposer.perception.cabinet_fit`), among the points with some hue;
+3. the table: what is left at table height with some hue;
+4. the robot: what is left and achromatic; of it, the gripper is what lies around the end
+   effector's pose (the robot's own joint state, not the simulator's).
+
+Labels are catalog labels (:data:`voxposer.catalog.OBJECTS` indices), as with ground truth, so
+detection and obstacle maps work on either cloud alike.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Final
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from voxposer.catalog import NO_OBJECT, label_of
+from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.perception.cabinet_fit import fit_cabinet
+from voxposer.perception.colour_names import GRAY, colour_labels
+from voxposer.perception.colour_objects import find_blocks_and_lines
+from voxposer.perception.observation import Observation
+from voxposer.perception.point_cloud import PointCloud, fuse_views
+
+#: Points at most this high [m] (and down the table's edge) with some hue are the table.
+TABLE_TOP_M: Final = 0.003
+#: The gripper: robot points from this far behind the end effector along its approach axis
+#: to this far beyond it [m] …
+GRIPPER_BEHIND_M: Final = 0.12
+GRIPPER_BEYOND_M: Final = 0.02
+#: … and at most this far from that axis [m].
+GRIPPER_RADIUS_M: Final = 0.11
+
+
+@dataclass(frozen=True)
+class _ColourView:
+    """A camera view whose label channel holds colour words instead of object ids."""
+
+    rgb: NDArray[np.uint8]
+    depth: NDArray[np.float32]
+    intrinsics: NDArray[np.float64]
+    extrinsics: NDArray[np.float64]
+    object_ids: NDArray[np.int32]
+
+
+@dataclass(frozen=True)
+class PixelLabels:
+    """The labelled cloud of one observation.
+
+    Attributes:
+        cloud: fused, grid-cropped world cloud; ``labels`` are catalog labels (-1: none).
+        seen: names of the objects found (each with at least one point).
+        openings: drawer ("top", …) → measured opening [m] (drawers whose front was seen, or
+            known from before).
+        cabinet: whether the cabinet was found.
+    """
+
+    cloud: PointCloud
+    seen: tuple[str, ...]
+    openings: dict[str, float]
+    cabinet: bool
+
+
+def colour_cloud(obs: Observation, grid: VoxelGrid) -> PointCloud:
+    """Every view fused into one cloud cropped to ``grid``, whose ``labels`` are colour words
+    (indices into :data:`voxposer.catalog.COLOR_NAMES`, -1 none) read from RGB. The views'
+    segmentation channel is never read."""
+    views = [_ColourView(f.rgb, f.depth, f.intrinsics, f.extrinsics, colour_labels(f.rgb))
+             for f in obs.cameras]
+    return fuse_views(views, grid)
+
+
+def _gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
+                  ee_quat: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Points (shape (N, 3)) inside the gripper's cylinder around the end-effector pose."""
+    approach = Rotation.from_quat(ee_quat).apply([0.0, 0.0, 1.0])
+    rel = points - ee_position
+    along = rel @ approach
+    radial = np.linalg.norm(rel - along[:, None] * approach, axis=1)
+    return (along >= -GRIPPER_BEHIND_M) & (along <= GRIPPER_BEYOND_M) & (radial <= GRIPPER_RADIUS_M)
+
+
+def label_pixels(obs: Observation, grid: VoxelGrid,
+                 prior_openings: dict[str, float] | None = None) -> PixelLabels:
+    """Catalog labels for the fused cloud of ``obs`` from its RGB and depth only.
+
+    Args:
+        obs: the observation (its ``object_ids`` are not read).
+        grid: workspace grid the cloud is cropped to.
+        prior_openings: drawer openings [m] measured before, for drawers hidden now.
+    """
+    colour_pts = colour_cloud(obs, grid)
+    points, colours = colour_pts.points, colour_pts.labels
+    labels = np.full(len(points), NO_OBJECT, dtype=np.int32)
+    seen: list[str] = []
+    for name, idx in find_blocks_and_lines(points, colours).items():
+        labels[idx] = label_of(name)
+        seen.append(name)
+    free = labels == NO_OBJECT
+    achromatic = colours == GRAY
+    hued = np.flatnonzero(free & ~achromatic)
+    fit = fit_cabinet(points[hued], colour_pts.normals[hued], prior_openings)
+    for name, idx in fit.parts.items():
+        if len(idx):
+            labels[hued[idx]] = label_of(name)
+            seen.append(name)
+    free = labels == NO_OBJECT
+    labels[free & ~achromatic & (points[:, 2] <= TABLE_TOP_M)] = label_of("table")
+    robot = free & achromatic
+    gripper = robot & _gripper_mask(points, np.asarray(obs.ee_position, np.float64),
+                                    np.asarray(obs.ee_quat, np.float64))
+    labels[robot] = label_of("robot")
+    labels[gripper] = label_of("gripper")
+    seen += [n for n in ("table", "robot", "gripper") if np.any(labels == label_of(n))]
+    cloud = PointCloud(points, colour_pts.normals, labels, colour_pts.colors, colour_pts.camera)
+    return PixelLabels(cloud, tuple(seen), dict(fit.openings), fit.present)
+
+
+__all__ = ["PixelLabels", "colour_cloud", "label_pixels"]

@@ -1,0 +1,67 @@
+"""The clause checklist: a plan that drops a clause of the instruction is caught."""
+
+from __future__ import annotations
+
+import pytest
+
+from voxposer.bench.intent_reference import with_expectation
+from voxposer.bench.task import episode_rng
+from voxposer.bench.tasks import TASKS
+from voxposer.lmp.checklist import (
+    checklist_message,
+    clause_gaps,
+    constraint_only,
+    planned_subtasks,
+)
+
+
+def test_planned_subtasks_reads_composer_calls_without_running_them() -> None:
+    code = ("composer('grasp the blue block')\nexpect(holding('blue block'))\n"
+            "for s in ['a', 'b']:\n    composer(f'move {s} to the red line')")
+    assert planned_subtasks(code) == ["grasp the blue block", "move  to the red line"]
+    assert planned_subtasks("composer('x'") is None
+
+
+def test_a_dropped_avoidance_clause_is_named() -> None:
+    gaps = clause_gaps("move the end effector right above the cyan block, and please avoid the "
+                       "red one", ["move to a point above the cyan block"])
+    assert {(g.kind, g.words) for g in gaps} == {("colour", "red"),
+                                                 ("avoidance clause", "avoid")}
+    message = checklist_message("…", gaps)
+    assert "'red'" in message and "'avoid'" in message
+
+
+def test_dropped_speeds_and_distances_are_named() -> None:
+    gaps = clause_gaps("go to the back left corner and keep at least 9cm away from the green "
+                       "block, slowly", ["move to the back left corner of the table"])
+    assert {g.kind for g in gaps} == {"colour", "number", "avoidance clause", "speed clause"}
+    covered = clause_gaps("go to the back left corner and keep at least 9cm away from the green "
+                          "block, slowly", ["move to the back left corner of the table while "
+                                            "staying 9cm away from the green block at slower "
+                                            "speed"])
+    assert covered == []
+
+
+def test_a_constraint_split_off_its_motion_is_caught() -> None:
+    plan = ["go to the back left corner of the table",
+            "move at faster speed whenever you are within 3cm of the green block"]
+    gaps = clause_gaps("go to the back left corner of the table and move at faster speed "
+                       "whenever you are within 3cm of the green block", plan)
+    assert [g.kind for g in gaps] == ["constraint without a motion"]
+    assert "only state a constraint" in checklist_message("…", gaps)
+    for motion in ("move to the left of the blue block while staying away from the green block",
+                   "grasp the yellow block while moving at a quarter of the speed",
+                   "move slowly to the cabinet", "back to default pose"):
+        assert not constraint_only(motion), motion
+
+
+@pytest.mark.parametrize("task", sorted(TASKS))
+def test_reference_plans_of_every_task_have_no_gaps(task: str) -> None:
+    """The checklist never sends a correct plan of a benchmark template back."""
+    for split in ("seen", "unseen"):
+        for seed in range(4):
+            attrs = TASKS[task].sample_attributes(episode_rng(task, split, seed), split)
+            instruction = TASKS[task].instruction(attrs)
+            code = with_expectation(TASKS[task].reference(attrs), task, attrs).code(
+                "planner", instruction)
+            assert clause_gaps(instruction, planned_subtasks(code) or []) == [], instruction

@@ -1,0 +1,56 @@
+"""An ``execute`` whose entity is already at its target is sent back before anything runs."""
+
+from __future__ import annotations
+
+import pytest
+
+from voxposer.errors import ResultError
+from voxposer.lmp import LMPRuntime, RecordingHandler, Transcript, make_tabletop_scene
+from voxposer.lmp.api import LMPAPI
+from voxposer.lmp.backends.replay import ReplayBackend
+from voxposer.lmp.checks import check_execute_target
+
+CENTRE = "a point at the center of the pink block"
+BLOCK_AS_MOVABLE = ("movable = parse_query_obj('pink block')\n"
+                    f"affordance_map = get_affordance_map('{CENTRE}')\n"
+                    "execute(movable, affordance_map=affordance_map)")
+GRIPPER_AS_MOVABLE = ("movable = parse_query_obj('gripper')\n"
+                      f"affordance_map = get_affordance_map('{CENTRE}')\n"
+                      "gripper_map = get_gripper_map('close everywhere')\n"
+                      "execute(movable, affordance_map=affordance_map, gripper_map=gripper_map)")
+ENTRIES = [
+    {"lmp": "planner", "query": "pick up the pink block",
+     "responses": ["composer('grasp the pink block')"]},
+    {"lmp": "composer", "query": "grasp the pink block",
+     "responses": [BLOCK_AS_MOVABLE, GRIPPER_AS_MOVABLE]},
+    {"lmp": "get_affordance_map", "query": CENTRE, "responses": [
+        "affordance_map = get_empty_affordance_map()\n"
+        "x, y, z = point_on(parse_query_obj('pink block'), 'center')\n"
+        "affordance_map[x, y, z] = 1\nret_val = affordance_map"]},
+    {"lmp": "get_gripper_map", "query": "close everywhere", "responses": [
+        "gripper_map = get_empty_gripper_map()\ngripper_map[:] = CLOSED\nret_val = gripper_map"]},
+]
+
+
+def test_the_block_as_its_own_movable_is_corrected_before_it_executes() -> None:
+    rt = LMPRuntime(make_tabletop_scene(), ReplayBackend(ENTRIES), handler=RecordingHandler(),
+                    transcript=Transcript())
+    rt.run("pick up the pink block")
+    (request,) = rt.handler.requests  # only the corrected program reached the robot
+    assert request.movable()["name"] == "gripper"
+    failed = [e for e in rt.transcript.events if e["event"] == "exec" and not e["ok"]]
+    assert len(failed) == 1 and "inside the pink block itself" in failed[0]["error"]
+
+
+def test_a_push_or_a_gripper_move_passes() -> None:
+    api = LMPAPI(make_tabletop_scene())
+    pink, table = api.detect("pink block"), api.detect("table")
+    here = api.maps.get_empty_affordance_map()
+    here[tuple(pink.position)] = 1
+    there = api.maps.get_empty_affordance_map()
+    there[tuple(api.point_on(table, "back left corner"))] = 1
+    check_execute_target(pink, there)  # push it somewhere else
+    check_execute_target(api.detect("gripper"), here)  # the gripper goes to the block
+    check_execute_target(pink, None)
+    with pytest.raises(ResultError, match="nothing would move"):
+        check_execute_target(pink, here)
