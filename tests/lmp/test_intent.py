@@ -92,3 +92,17 @@ def test_expect_records_results_and_a_bad_condition_never_breaks_the_plan(
 
 def test_no_condition_stated_is_no_verdict(checks: IntentChecks) -> None:
     assert checks.verdict() is None and checks.failed() == []
+
+
+def test_on_a_side_of_a_block_means_beside_it(checks: IntentChecks) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    brown = scene.detect("brown block")
+    front = brown.position + np.array([0.075, 0.0, 0.0])  # 5 cm beyond its front face
+    scene.set_ee(front)
+    assert h["on"]("gripper", "brown block", "front side").held
+    assert not h["on"]("gripper", "brown block", "back side").held
+    assert not h["on"]("gripper", "brown block", "left side").held
+    scene.set_ee(front + np.array([0.0, 0.10, 0.0]))  # in front, but 10 cm off to the right
+    assert not h["on"]("gripper", "brown block", "front side").held
+    scene.set_ee(brown.position + np.array([0.30, 0.0, 0.0]))  # far in front
+    assert not h["on"]("gripper", "brown block", "front").held

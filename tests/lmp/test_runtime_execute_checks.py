@@ -54,3 +54,16 @@ def test_a_push_or_a_gripper_move_passes() -> None:
     check_execute_target(pink, None)
     with pytest.raises(ResultError, match="nothing would move"):
         check_execute_target(pink, here)
+
+
+def test_an_execute_without_a_target_is_corrected_before_it_executes() -> None:
+    entries = [dict(e) for e in ENTRIES]
+    entries[1] = {"lmp": "composer", "query": "grasp the pink block", "responses": [
+        "movable = parse_query_obj('gripper')\nexecute(movable)", GRIPPER_AS_MOVABLE]}
+    rt = LMPRuntime(make_tabletop_scene(), ReplayBackend(entries), handler=RecordingHandler(),
+                    transcript=Transcript())
+    rt.run("pick up the pink block")
+    (request,) = rt.handler.requests
+    assert "affordance_map" in request.maps
+    failed = [e for e in rt.transcript.events if e["event"] == "exec" and not e["ok"]]
+    assert len(failed) == 1 and "needs an affordance_map" in failed[0]["error"]

@@ -39,6 +39,10 @@ NEAR_CM: Final = 5.0
 ABOVE_MARGIN_CM: Final = 3.0
 #: how close [cm] an object's centre must be to the end effector to be "held".
 HOLD_CM: Final = 8.0
+#: "on the front side of" an object: level with it within this [cm] across that side, and
+#: at most this far [cm] from it.
+BESIDE_LATERAL_CM: Final = 4.0
+BESIDE_MAX_CM: Final = 15.0
 #: the names the planner's code sees.
 HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "holding")
 
@@ -199,19 +203,39 @@ class IntentChecks:
                          f"{dist:.1f} cm from the {other}")
 
     def on(self, obj: str, target: str, where: str = "center") -> Condition:
-        """``obj``'s centre lies over the ``where`` part of ``target`` ("right side", "back left
-        corner" of the table: the places the API's ``region_mask`` gives)."""
-        name = self._name(obj)
-        grid = self.api.grid
+        """``obj``'s centre lies over the ``where`` part of the table ("right side", "back left
+        corner": the places the API's ``region_mask`` gives); beside another object, it lies
+        on that side of it ("front side": beyond its front face, level with it ±4 cm, within
+        15 cm of it)."""
+        name, other = self._name(obj), self._name(target)
         centre = self._centre(name)
         text = _call("on", obj, target, where)
+        if other != "table":
+            return self._beside(text, name, other, where, centre)
+        grid = self.api.grid
         if not bool(grid.contains(centre)):
             return Condition(text, False, f"the {name} is outside the workspace")
-        mask = self.api.region_mask(self._name(target), where)
+        mask = self.api.region_mask(other, where)
         i, j, k = (int(v) for v in grid.world_to_voxel(centre))
         held = bool(mask[i, j, k])
         return Condition(text, held, f"the {name} at {np.round(centre[:2], 3).tolist()} m is "
                                      f"{'' if held else 'not '}over the {where}")
+
+    def _beside(self, text: str, name: str, other: str, where: str,
+                centre: NDArray[np.float64]) -> Condition:
+        """``on`` for an object other than the table: ``name`` on the ``where`` side of it."""
+        signs = parse_side(where, name=other)
+        lo, hi = self._aabb(other)
+        slack, lateral = 0.01, BESIDE_LATERAL_CM / 100.0
+        beyond = all(sign * (centre[axis] - (hi[axis] if sign > 0 else lo[axis])) >= -slack
+                     for axis, sign in signs.items())
+        level = all(lo[a] - lateral <= centre[a] <= hi[a] + lateral
+                    for a in (0, 1) if a not in signs)
+        dist = 100.0 * float(self._box_distance(centre[None], other)[0])
+        held = beyond and level and dist <= BESIDE_MAX_CM
+        return Condition(text, held, f"the {name} is {dist:.1f} cm from the {other}, "
+                                     f"{'' if beyond else 'not '}beyond its {where} face, "
+                                     f"{'' if level else 'not '}level with it")
 
     def above(self, obj: str, target: str, cm: float | None = None) -> Condition:
         """``obj`` is over ``target``'s footprint (±3 cm) and higher than its top (by about

@@ -30,7 +30,6 @@ from dataclasses import asdict
 from typing import Any
 
 from voxposer.errors import (
-    ConfigError,
     LLMError,
     LMPFailedError,
     ProgramError,
@@ -39,11 +38,11 @@ from voxposer.errors import (
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
 from voxposer.lmp.checklist import PlanReview
-from voxposer.lmp.checks import check_execute_target, check_result
+from voxposer.lmp.checks import check_result
 from voxposer.lmp.codetext import extract_code
-from voxposer.lmp.handoff import MAP_ARGUMENTS, ExecuteHandler, ExecutionRequest, RecordingHandler
+from voxposer.lmp.execute_call import ExecuteCall
+from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.intent import IntentChecks
-from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec
@@ -246,7 +245,8 @@ class LMPRuntime:
         elif spec.role == "composer":
             for name in ("parse_query_obj", *MAP_LMPS):
                 out[name] = self._lazy(name)
-            out["execute"] = self._make_execute(query)
+            out["execute"] = ExecuteCall(query, self.handler, self.program, self.transcript,
+                                         self.intent, self._count_effect)
             out["reset_to_default_pose"] = self._reset
         elif spec.role == "planner":
             out = {"composer": self._composer, "reset_to_default_pose": self._reset,
@@ -287,41 +287,8 @@ class LMPRuntime:
             except Exception as exc:
                 raise NoRetry(exc) from exc
 
-    def _make_execute(self, subtask: str) -> Any:
-        def execute(movable: Any, **maps: Any) -> None:
-            unknown = sorted(set(maps) - set(MAP_ARGUMENTS))
-            if unknown:
-                raise TypeError(f"execute() got unknown argument(s) {unknown}; it accepts "
-                                f"movable and {', '.join(MAP_ARGUMENTS)}")
-            request = ExecutionRequest(
-                subtask=subtask, movable=self._as_callable(movable, "parse_query_obj"),
-                maps={k: self._as_callable(v, k) for k, v in maps.items() if v is not None})
-            with suspend_time_limit():  # before any side effect: the model may still fix it
-                affordance = request.maps.get("affordance_map")
-                check_execute_target(request.movable(), affordance() if affordance else None)
-            self._side_effects += 1
-            with suspend_time_limit():
-                try:
-                    outcome = self.handler.execute(request)
-                except Exception as exc:
-                    self.transcript.write("execute", subtask=subtask, success=False,
-                                          message=f"{type(exc).__name__}: {exc}")
-                    raise NoRetry(exc) from exc
-            self.intent.add_execution(outcome)
-            self.transcript.write("execute", subtask=subtask,
-                                  success=bool(getattr(outcome, "success", True)),
-                                  message=str(getattr(outcome, "message", "")))
-        return execute
-
-    def _as_callable(self, value: Any, what: str) -> Any:
-        if callable(value):
-            return value
-        if isinstance(value, str) and what == "parse_query_obj":
-            return self.program("parse_query_obj", value)
-        if isinstance(value, ObjectView) or hasattr(value, "shape"):
-            return lambda: value
-        raise ConfigError(f"execute() needs {what} from an LMP call (or an array); got "
-                          f"{type(value).__name__}")
+    def _count_effect(self) -> None:
+        self._side_effects += 1
 
 
 def _untimed(fn: Any) -> Any:

@@ -45,6 +45,7 @@ from RestrictedPython.Guards import guarded_iter_unpack_sequence, guarded_unpack
 from scipy.spatial.transform import Rotation
 
 from voxposer.errors import ConfigError, SandboxError
+from voxposer.lmp import sandbox_memory
 from voxposer.lmp.sandbox_attrs import AttributePolicy
 from voxposer.lmp.sandbox_builtins import make_builtins
 from voxposer.lmp.sandbox_compile import (
@@ -58,6 +59,9 @@ from voxposer.lmp.sandbox_numpy import NumpyProxy
 from voxposer.lmp.sandbox_work import WorkGuard
 
 logger = logging.getLogger(__name__)
+#: bytes per element of the size limit: generated code's memory may grow by
+#: ``max_elements`` 8-byte elements in all (the memory watch, :mod:`sandbox_memory`).
+BYTES_PER_ELEMENT = 8
 
 #: The values of ``SandboxConfig.isolation``.
 ISOLATION_MODES: Final = ("inline", "process")
@@ -71,7 +75,9 @@ class SandboxConfig:
         time_limit_s: wall time one execution may spend in generated code [s] (time spent in
             trusted callbacks inside :func:`suspend_time_limit`, e.g. nested LLM calls, is not
             counted).
-        max_elements: largest array / sequence generated code may create [elements].
+        max_elements: largest array / sequence generated code may create [elements]; times
+            8 bytes, also the most memory one execution may add in all (watched every 256
+            lines, :mod:`voxposer.lmp.sandbox_memory`).
         max_work: most operations one super-linear call may take [multiply-adds or
             comparisons]: a matrix product, a ``np.linalg`` factorisation, a sort, a
             convolution (:mod:`voxposer.lmp.sandbox_work`). The default, 1e9, is about a second
@@ -150,6 +156,7 @@ def _trace(frame: types.FrameType, event: str, arg: Any) -> Any:
 def _trace_local(frame: types.FrameType, event: str, arg: Any) -> Any:
     if event == "line":
         _check_deadline()
+        sandbox_memory.check()
     return _trace_local
 
 
@@ -161,12 +168,15 @@ def suspend_time_limit() -> Iterator[None]:
     their work in this, so the caller's time limit counts only its own code.
     """
     stack = _deadlines()
-    start = time.monotonic()
+    start, memory = time.monotonic(), sandbox_memory.resident_bytes()
     stack.append(None)
     try:
         yield
     finally:
         stack.pop()
+        after = sandbox_memory.resident_bytes()
+        if memory is not None and after is not None:
+            sandbox_memory.discount(after - memory)
         spent = time.monotonic() - start
         for i, deadline in enumerate(stack):
             if deadline is not None:
@@ -250,6 +260,7 @@ class Sandbox:
         namespace.update(variables)
         stack = _deadlines()
         stack.append(time.monotonic() + self.config.time_limit_s)
+        sandbox_memory.start(self.config.max_elements * BYTES_PER_ELEMENT)
         previous = sys.gettrace()
         sys.settrace(_trace)
         try:
@@ -262,6 +273,7 @@ class Sandbox:
         finally:
             sys.settrace(previous)
             stack.pop()
+            sandbox_memory.stop()
         return namespace
 
     def _isolated(self) -> Any:

@@ -37,6 +37,7 @@ from voxposer.errors import SandboxError
 from voxposer.lmp.sandbox_checks import (
     CheckedMethod,
     Checker,
+    check_astype,
     check_dot,
     check_extend,
     check_first_elements,
@@ -76,7 +77,7 @@ _ARRAY: Final = _names(
     "searchsorted partition compress is_integer as_integer_ratio",
     reshape=check_new_shape, resize=check_new_shape,
     repeat=check_with_self(NUMPY_SIZES["repeat"]), take=check_with_self(NUMPY_SIZES["take"]),
-    astype=check_same_size, copy=check_same_size, flatten=check_same_size,
+    astype=check_astype, copy=check_same_size, flatten=check_same_size,
     ravel=check_same_size, tolist=check_same_size, cumsum=check_same_size,
     cumprod=check_same_size, clip=check_same_size, round=check_same_size,
     argpartition=check_same_size, nonzero=check_nonzero, dot=check_dot, sort=check_sorting,

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from voxposer.lmp.sandbox_limits import Limits
-from voxposer.lmp.sandbox_sizes import as_shape, random_size
+from voxposer.lmp.sandbox_sizes import as_shape, dtype_width, random_size
 from voxposer.lmp.sandbox_work import dot_size, dot_work, elements, prod, sort_work
 
 #: A check run before a method: (limits, the object, args, kwargs, "what") → replacement args
@@ -44,6 +44,13 @@ class CheckedMethod:
 
 def check_same_size(limits: Limits, obj: Any, args: tuple, kwargs: dict, what: str) -> None:
     limits.size.check(float(np.size(obj)), what)
+
+
+def check_astype(limits: Limits, obj: Any, args: tuple, kwargs: dict, what: str) -> None:
+    """``astype``: the same elements, counted in 8-byte units of the new dtype (a 64M-element
+    array as ``complex256`` is 2 GB, four times the limit's bytes)."""
+    dtype = kwargs.get("dtype", args[0] if args else None)
+    limits.size.check(float(np.size(obj)) * dtype_width(dtype), what)
 
 
 def check_new_shape(limits: Limits, obj: Any, args: tuple, kwargs: dict, what: str) -> None:

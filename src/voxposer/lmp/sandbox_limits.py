@@ -25,7 +25,7 @@ from typing import Any, Final, NamedTuple
 import numpy as np
 
 from voxposer.errors import SandboxError
-from voxposer.lmp.sandbox_sizes import estimate_call_size
+from voxposer.lmp.sandbox_sizes import dtype_width, estimate_call_size
 from voxposer.lmp.sandbox_work import WorkGuard, matmul_size, matmul_work, prod, shape_of
 
 
@@ -50,7 +50,8 @@ class SizeGuard:
             count = estimate_call_size(path, name, func, args, kwargs)
         except (IndexError, TypeError, ValueError, OverflowError):
             return  # malformed arguments: the call itself raises numpy's clearer error
-        self.check(count, f"{path}.{name}(...)")
+        # a dtype wider than 8 bytes counts as several elements (the limit is on memory)
+        self.check(count * dtype_width(kwargs.get("dtype")), f"{path}.{name}(...)")
 
 
 class Limits(NamedTuple):

@@ -287,3 +287,13 @@ def estimate_call_size(path: str, name: str, func: Any, args: tuple[Any, ...],
         return broadcast_elements(*args)
     return _generic(args, kwargs, SHAPE_ARGS.get(name, ()))
 
+
+def dtype_width(dtype: Any) -> float:
+    """How many 8-byte elements one element of ``dtype`` counts as (at least 1; 1 when
+    ``dtype`` is None or not a dtype)."""
+    if dtype is None:
+        return 1.0
+    try:
+        return max(1.0, np.dtype(dtype).itemsize / 8.0)
+    except (TypeError, ValueError):
+        return 1.0

@@ -1,0 +1,41 @@
+"""The inline sandbox counts memory: wide dtypes by their bytes, many small allocations in all."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from voxposer.errors import SandboxError
+from voxposer.lmp.sandbox import Sandbox, SandboxConfig, suspend_time_limit
+from voxposer.lmp.sandbox_memory import resident_bytes
+
+SMALL = SandboxConfig(max_elements=1_000_000)  # 8 MB of elements, 8 MiB of growth
+
+
+def test_astype_to_a_wide_dtype_counts_its_bytes() -> None:
+    sandbox = Sandbox(SMALL)
+    sandbox.run("a = np.zeros(500_000)\nb = a.astype(np.float64)", {})  # 8 bytes: as many
+    with pytest.raises(SandboxError, match=r"size limit: ndarray\.astype"):
+        sandbox.run("a = np.zeros(500_000)\nb = a.astype(np.complex256)", {})  # 32 bytes
+    with pytest.raises(SandboxError, match=r"size limit: np\.zeros"):
+        sandbox.run("b = np.zeros(500_000, dtype=np.complex256)", {})
+
+
+@pytest.mark.skipif(resident_bytes() is None, reason="no /proc/self/statm on this system")
+def test_many_small_allocations_hit_the_memory_limit() -> None:
+    sandbox = Sandbox(SMALL)
+    sandbox.run("rows = [[0] * 100 for _ in range(1000)]", {})  # 100k items: well inside
+    with pytest.raises(SandboxError, match="memory limit"):  # 40M items, 1k each: ~320 MB
+        sandbox.run("rows = [[0] * 1000 for _ in range(40_000)]", {})
+    sandbox.run("x = 1", {})  # the next run starts afresh
+
+
+@pytest.mark.skipif(resident_bytes() is None, reason="no /proc/self/statm on this system")
+def test_memory_trusted_callbacks_take_is_not_counted() -> None:
+    def load_model() -> np.ndarray:  # e.g. a nested LLM call that loads weights
+        with suspend_time_limit():
+            return np.ones(8_000_000)  # 64 MB, eight times the generated code's budget
+
+    out = Sandbox(SMALL).run("w = load_model()\nfor i in range(2000):\n    y = i * 2", {
+        "load_model": load_model})
+    assert out["w"].size == 8_000_000
