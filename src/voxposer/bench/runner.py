@@ -27,6 +27,7 @@ from voxposer.bench.attributes import SPLITS, check_split
 from voxposer.bench.episode import EpisodeJob
 from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.protocol import ADHOC, DEV_SEEDS, TEST_SEEDS, check_instructions, get_seed_set
+from voxposer.bench.ray_pool import run_ray
 from voxposer.bench.results import (
     append_record,
     check_resumable,
@@ -44,7 +45,7 @@ from voxposer.bench.suites import (
 from voxposer.bench.tasks import TASKS, get_task
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import check_video_mode
-from voxposer.bench.workers import run_local, run_ray
+from voxposer.bench.workers import run_local
 from voxposer.errors import ConfigError
 from voxposer.pipeline import check_perception
 

@@ -1,4 +1,5 @@
-"""Where episodes run: one world per worker, in a local process pool or as Ray actors.
+"""Where episodes run: one world per worker, in a local process pool (Ray actors:
+:mod:`voxposer.bench.ray_pool`).
 
 One world per worker process (MuJoCo models and renderers are not shared), and one LLM backend
 with it. ``local`` runs ``workers`` spawned processes (``workers=1``: this process); ``ray`` runs
@@ -43,7 +44,7 @@ PARENT_POLL_S = 0.5
 
 
 class EpisodeRunner(Protocol):
-    """What runs episodes in one worker process (:class:`_Worker`: a world and a backend)."""
+    """What runs episodes in one worker process (:class:`EpisodeWorker`: a world and a backend)."""
 
     def run(self, job: EpisodeJob) -> dict[str, Any]: ...
 
@@ -75,7 +76,7 @@ def worker_llm_config(llm: str, overrides: dict[str, Any]) -> LLMConfig:
     return dataclasses.replace(base, backend=llm, **values)  # type: ignore[arg-type]
 
 
-class _Worker:
+class EpisodeWorker:
     """One world (and one LLM backend) per worker process, perceived with ``perception``
     (:data:`voxposer.pipeline.PERCEPTIONS`), which each record names."""
 
@@ -136,7 +137,7 @@ def _serve(conn: Connection, make_worker: Callable[[], EpisodeRunner]) -> None:
         try:
             record = worker.run(job)
         except Exception as exc:  # run_episode records its own failures; this is a last resort
-            record = _error_record(job, exc)
+            record = error_record(job, exc)
         conn.send(("record", record))
 
 
@@ -271,7 +272,7 @@ def run_local(cfg: ExecutorSettings, jobs: list[EpisodeJob],
     """Run ``jobs`` on ``cfg.workers`` local processes (1: in this process), yielding each
     record as it finishes; ``make_worker`` builds a process's runner (default: a world and the
     backend of ``cfg``)."""
-    factory = make_worker or functools.partial(_Worker, cfg.llm, cfg.llm_overrides,
+    factory = make_worker or functools.partial(EpisodeWorker, cfg.llm, cfg.llm_overrides,
                                                cfg.perception)
     if cfg.workers == 1:
         worker = factory()
@@ -281,50 +282,9 @@ def run_local(cfg: ExecutorSettings, jobs: list[EpisodeJob],
     yield from LocalPool(factory, cfg.workers).run(jobs)
 
 
-def _error_record(job: EpisodeJob, exc: BaseException) -> dict[str, Any]:
+def error_record(job: EpisodeJob, exc: BaseException) -> dict[str, Any]:
+    """The record of ``job`` whose worker failed with ``exc``."""
     rec = EpisodeRecord.for_job(job)
     rec.error = f"{type(exc).__name__}: {exc}"
     rec.reason = f"error: worker failed: {exc}"
     return rec.to_json()
-
-
-class _RayWorker:  # wrapped by ray.remote at run time
-    def __init__(self, llm: str, overrides: dict[str, Any],
-                 perception: str = "ground-truth") -> None:
-        self.worker = _Worker(llm, overrides, perception)
-
-    def run(self, job: EpisodeJob) -> dict[str, Any]:
-        return self.worker.run(job)
-
-
-def run_ray(cfg: ExecutorSettings, jobs: list[EpisodeJob]) -> Records:
-    try:
-        import ray
-    except ImportError as exc:
-        raise VoxPoserError("--pool ray needs Ray, which is not installed; install the "
-                            "extra: pip install 'voxposer[ray]'") from exc
-    ray.init(address=cfg.ray_address, ignore_reinit_error=True)
-    actor_cls: Any = ray.remote(num_cpus=1)(_RayWorker)  # actor handles are untyped
-    actors = [actor_cls.remote(cfg.llm, cfg.llm_overrides, cfg.perception)
-              for _ in range(min(cfg.workers, len(jobs)))]
-    queue = list(jobs)
-    pending: dict[Any, tuple[Any, EpisodeJob]] = {}
-    for actor in actors:
-        if queue:
-            job = queue.pop(0)
-            pending[actor.run.remote(job)] = (actor, job)
-    try:
-        while pending:
-            (ref,), _ = ray.wait(list(pending), num_returns=1)
-            actor, job = pending.pop(ref)
-            try:
-                yield ray.get(ref)
-            except Exception as exc:
-                yield _error_record(job, exc)
-                actor = actor_cls.remote(cfg.llm, cfg.llm_overrides)
-            if queue:
-                nxt = queue.pop(0)
-                pending[actor.run.remote(nxt)] = (actor, nxt)
-    finally:
-        for ref in pending:
-            ray.cancel(ref, force=True)
