@@ -151,3 +151,18 @@ def test_voxposer_run_writes_the_scene_into_the_summary(tmp_path: Path) -> None:
     assert drawers["bottom"]["why"] == ASKED_CLOSE
     (blue,) = [b for b in summary["scene"]["blocks"] if b["name"] == "blue block"]
     assert blue["why"] == "--place" and blue["xy_m"] == [0.0, -0.2]
+
+
+def test_a_place_under_the_cabinet_leaves_the_cabinet_out() -> None:
+    rng = np.random.default_rng(0)
+    for instruction in ("move to the right side of the table",
+                        "push the blue block to the front right corner of the table"):
+        scene = choose_scene(instruction, rng)
+        assert scene.layout.cabinet is False, instruction
+        assert "lies under it" in scene.describe()["cabinet_why"]
+    for instruction in ("move to the back right corner of the table",  # clear of the cabinet
+                        "close the top drawer", "go to the right side of the cabinet"):
+        assert choose_scene(instruction, rng).layout.cabinet is True, instruction
+    forced = choose_scene("move to the right side of the table", rng,
+                          SceneRequest.from_options(["top"], []))
+    assert forced.layout.cabinet is True  # a drawer the options open keeps its cabinet

@@ -21,6 +21,7 @@ import numpy as np
 
 from voxposer import tabletop
 from voxposer.catalog import COLOR_NAMES, DRAWERS
+from voxposer.cli.scene_cabinet import cabinet_choice
 from voxposer.errors import ConfigError
 
 if TYPE_CHECKING:
@@ -255,6 +256,7 @@ class SceneChoice:
             "blocks": objects("block"),
             "lines": objects("line"),
             "cabinet": self.layout.cabinet,
+            "cabinet_why": self.why.get("cabinet", ""),
             "drawers": [{"drawer": d, "opening_m": round(float(openings.get(d, 0.0)), 4),
                          "why": self.why.get(f"{d} drawer", CLOSED)} for d in DRAWERS],
         }
@@ -298,6 +300,9 @@ def choose_scene(instruction: str, rng: np.random.Generator,
     for name in request.places:
         why[name] = f"{NAMED}; {PLACED}" if name in why else PLACED
     openings, drawer_why = _drawers(instruction, rng, request)
+    cabinet, why["cabinet"] = cabinet_choice(instruction)
+    if openings and not cabinet:  # a drawer asked for by an option keeps its cabinet
+        cabinet, why["cabinet"] = True, OPTION
     layout = SceneLayout(blocks=blocks, lines=lines, extra_blocks=(3, 5), extra_lines=(2, 3),
-                         drawer_openings=openings, poses=dict(request.places))
+                         drawer_openings=openings, poses=dict(request.places), cabinet=cabinet)
     return SceneChoice(layout, why | drawer_why)
