@@ -17,7 +17,7 @@ detection and obstacle maps work on either cloud alike.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Final
 
 import numpy as np
@@ -43,17 +43,6 @@ GRIPPER_RADIUS_M: Final = 0.11
 
 
 @dataclass(frozen=True)
-class _ColourView:
-    """A camera view whose label channel holds colour words instead of object ids."""
-
-    rgb: NDArray[np.uint8]
-    depth: NDArray[np.float32]
-    intrinsics: NDArray[np.float64]
-    extrinsics: NDArray[np.float64]
-    object_ids: NDArray[np.int32]
-
-
-@dataclass(frozen=True)
 class PixelLabels:
     """The labelled cloud of one observation.
 
@@ -75,8 +64,8 @@ def colour_cloud(obs: Observation, grid: VoxelGrid) -> PointCloud:
     """Every view fused into one cloud cropped to ``grid``, whose ``labels`` are colour words
     (indices into :data:`voxposer.catalog.COLOR_NAMES`, -1 none) read from RGB. The views'
     segmentation channel is never read."""
-    views = [_ColourView(f.rgb, f.depth, f.intrinsics, f.extrinsics, colour_labels(f.rgb))
-             for f in obs.cameras]
+    # the same views, their label channel replaced by colour words
+    views = [replace(f, object_ids=colour_labels(f.rgb)) for f in obs.cameras]
     return fuse_views(views, grid)
 
 
