@@ -29,6 +29,7 @@ ALLOWED: dict[str, set[str]] = {
     "pipeline": BASE | {"valuemaps", "planning", "perception", "lmp", "control"},
     "bench": BASE | {"valuemaps", "planning", "perception", "lmp", "control", "envs", "pipeline",
                      "voxposer"},
+    "learning": BASE | {"valuemaps", "planning", "perception", "lmp", "control", "pipeline"},
 }
 #: the only perception modules the simulator may import: the observation types it produces.
 ENVS_MAY_USE = {"voxposer.perception.observation"}

@@ -223,3 +223,23 @@ class ExecutionFailedError(VoxPoserError):
         self.subtask = subtask
         self.reason = reason
         super().__init__(f"sub-task {subtask!r} failed ({reason}): {message}")
+
+
+class DimensionMismatchError(VoxPoserError, ValueError):
+    """Arrays (observations, actions, transitions) or a saved model file have other dimensions
+    than a learned dynamics model expects; the message names both shapes."""
+
+
+class DivergedError(VoxPoserError, ArithmeticError):
+    """Training a learned dynamics model produced a NaN/inf loss.
+
+    Attributes:
+        epoch: the epoch (from 0) in which the loss stopped being finite.
+        loss: the offending loss value.
+    """
+
+    def __init__(self, epoch: int, loss: float) -> None:
+        self.epoch = int(epoch)
+        self.loss = float(loss)
+        super().__init__(f"training diverged in epoch {self.epoch}: loss {self.loss!r}; lower "
+                         "the learning rate or check the transitions for huge values")

@@ -11,7 +11,7 @@ cameras is another embodiment).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Final
 
@@ -27,14 +27,18 @@ from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.scene import RobotScene
 from voxposer.lmp.transcript import Transcript
 from voxposer.perception.colour_depth import ColourDepthPerceiver
+from voxposer.perception.noisy_source import NoisyObservationSource, seed_from_scene
 from voxposer.perception.perceiver import Perceiver
 from voxposer.perception.segmentation import SegmentationPerceiver
+from voxposer.perception.sensor_noise import SensorNoiseConfig
 from voxposer.robot import Robot
 
 #: How a simulated embodiment finds objects (``--perception``): the simulator's ground-truth
 #: segmentation channel, or colour and depth pixels only
-#: (:class:`~voxposer.perception.colour_depth.ColourDepthPerceiver`).
-PERCEPTIONS: Final = ("ground-truth", "colour-depth")
+#: (:class:`~voxposer.perception.colour_depth.ColourDepthPerceiver`); "-noisy": the same on
+#: views with a consumer RGB-D camera's errors (:mod:`voxposer.perception.sensor_noise`; for
+#: ground truth, corrupted masks too).
+PERCEPTIONS: Final = ("ground-truth", "colour-depth", "ground-truth-noisy", "colour-depth-noisy")
 _perception = {"default": "ground-truth"}
 
 
@@ -51,11 +55,26 @@ def use_perception(name: str) -> None:
     _perception["default"] = check_perception(name)
 
 
-def simulated_perceiver(world: Any, perception: str) -> Perceiver:
-    """The perceiver ``perception`` (:data:`PERCEPTIONS`) reading ``world``'s cameras."""
-    if check_perception(perception) == "colour-depth":
-        return ColourDepthPerceiver(world, world.grid)
-    return SegmentationPerceiver(world, world.grid)
+def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig | None = None,
+                        seed: int | None = None) -> Perceiver:
+    """The perceiver ``perception`` (:data:`PERCEPTIONS`) reading ``world``'s cameras.
+
+    A "-noisy" one reads them through a
+    :class:`~voxposer.perception.noisy_source.NoisyObservationSource` with ``noise`` (None:
+    the typical defaults of :class:`SensorNoiseConfig`; the label channel is left alone for
+    colour-depth, which never reads it), seeded with ``seed`` (None: from the world's scene,
+    so an episode's noise is fixed by its scene).
+    """
+    source = world
+    if check_perception(perception).endswith("-noisy"):
+        config = noise or SensorNoiseConfig()
+        if perception.startswith("colour-depth"):
+            config = replace(config, mask_corruption=False)
+        seed = seed_from_scene(getattr(world, "placement", None)) if seed is None else seed
+        source = NoisyObservationSource(world, config, seed)
+    if perception.startswith("colour-depth"):
+        return ColourDepthPerceiver(source, world.grid)
+    return SegmentationPerceiver(source, world.grid)
 
 
 @dataclass(frozen=True)

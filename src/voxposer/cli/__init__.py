@@ -10,6 +10,9 @@ Commands:
                 write the resulting map as HTML.
     bench       the 13-task simulated benchmark (paper Table 4) in parallel, with a report.
     render      render the four camera views of a seeded tabletop scene to one PNG.
+    learn-dynamics
+                learn a dynamics model online for the door, window and fridge, with zero-shot
+                trajectories as exploration prior or without (paper Table 3).
 
 Every command checks its arguments before it starts any work (:mod:`voxposer.cli.checks`): a
 bad value is one line naming it and what is allowed, and exit status 2.
@@ -101,10 +104,11 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=int, default=0, help="seed for the random obstacle blobs")
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
     demo.set_defaults(func=_plan_demo, check=_check_plan_demo)
-    from voxposer.cli import bench, lmp, render, run
+    from voxposer.cli import bench, learn_dynamics, lmp, render, run
 
     run.add_parser(sub)
     bench.add_parser(sub)
+    learn_dynamics.add_parser(sub)
     lmp.add_parser(sub)
     render.add_parser(sub)
     return parser

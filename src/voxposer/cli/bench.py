@@ -123,7 +123,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    "marked disturbed, so --resume can add them beside static ones")
     p.add_argument("--perception", choices=PERCEPTIONS, default="ground-truth",
                    help="how objects are found: the simulator's segmentation (ground-truth) or "
-                   "RGB-D pixels only (colour-depth); recorded in every episode")
+                   "RGB-D pixels only (colour-depth); -noisy: on views with a consumer RGB-D "
+                   "camera's errors (depth noise, missing depth, calibration; masks too); "
+                   "recorded in every episode")
     p.add_argument("--no-plot", action="store_true", help="skip success.png")
     p.set_defaults(func=run, check=check_args)
     return p

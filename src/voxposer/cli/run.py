@@ -41,7 +41,7 @@ from voxposer.errors import VoxPoserError
 
 #: ``--perception`` values (:data:`voxposer.pipeline.PERCEPTIONS`; kept here so the CLI's help
 #: needs no simulator import).
-PERCEPTION_CHOICES = ("ground-truth", "colour-depth")
+PERCEPTION_CHOICES = ("ground-truth", "colour-depth", "ground-truth-noisy", "colour-depth-noisy")
 
 if TYPE_CHECKING:
     from voxposer.envs.layout import SceneLayout
@@ -71,7 +71,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
     p.add_argument("--perception", choices=PERCEPTION_CHOICES, default="ground-truth",
                    help="how objects are found: the simulator's segmentation (ground-truth) or "
-                   "RGB-D pixels only (colour-depth)")
+                   "RGB-D pixels only (colour-depth); -noisy: on views with a consumer RGB-D "
+                   "camera's errors (depth noise, missing depth, calibration; masks too)")
     _add_scene_options(p)
     p.set_defaults(func=run, check=check_args)
     return p

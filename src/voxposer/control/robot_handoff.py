@@ -51,6 +51,8 @@ class RobotHandoff:
         picture_dir: where to write ``subtask_<k>.html`` pictures (None = none).
         on_replan: forwarded to the closed-loop executor (live progress, disturbances).
         records: every sub-task executed, in order.
+        keep_going: a sub-task that misses its target is recorded and the program goes on
+            (recording a zero-shot trajectory whole), instead of raising.
     """
 
     robot: Robot
@@ -61,6 +63,7 @@ class RobotHandoff:
     on_replan: Callable[[ExecutionResult, Any], None] | None = None
     on_subtask: Callable[[str], None] | None = None
     records: list[SubtaskRecord] = field(default_factory=list)
+    keep_going: bool = False
 
     def __post_init__(self) -> None:
         self._loop = ClosedLoopController(self.robot, self.perceiver, self.rng, self.config)
@@ -79,7 +82,7 @@ class RobotHandoff:
         record = SubtaskRecord(request.subtask, result)
         record.picture = self._picture(len(self.records), request.subtask, result)
         self.records.append(record)
-        if not result.success:
+        if not result.success and not self.keep_going:
             raise ExecutionFailedError(request.subtask, result.reason, result.message)
         return result
 

@@ -16,16 +16,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.catalog import OBJECTS
+from voxposer.envs.arm import ArmStateMixin
 from voxposer.envs.cameras import CameraRenderer
 from voxposer.envs.config import WorldConfig
 from voxposer.envs.registry import ObjectRegistry
-from voxposer.geometry.frames import wxyz_to_xyzw
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.observation import Observation
 
 
-class SensingMixin:
-    """Observation and state queries (needs the attributes declared below)."""
+class SensingMixin(ArmStateMixin):
+    """Observation and ground-truth queries (needs the attributes declared below; the robot's
+    state queries come from :class:`~voxposer.envs.arm.ArmStateMixin`)."""
 
     config: WorldConfig
     grid: VoxelGrid
@@ -37,9 +38,6 @@ class SensingMixin:
     _obs_key: tuple[float, int, int, bool] | None
     _present: tuple[str, ...]
     _gripper: float
-    _ee_site: int
-    _finger_qpos: NDArray[np.int64]
-    _arm_qpos: NDArray[np.int64]
 
     # ----------------------------------------------------------------- names
     @property
@@ -106,41 +104,7 @@ class SensingMixin:
             self._renderer.close()
             self._renderer = None
 
-    # --------------------------------------------------------------- state
-    @property
-    def control_period(self) -> float:
-        """Duration of one :meth:`step` [s] (``ControllerConfig.control_dt``)."""
-        return float(self.config.controller.control_dt)
-
-    @property
-    def time(self) -> float:
-        """Simulated time [s]."""
-        return float(self.data.time)
-
-    @property
-    def base_position(self) -> NDArray[np.float64]:
-        """Position of the robot's base [m], shape (3,)."""
-        return np.asarray(self.config.robot_base, dtype=np.float64)
-
-    def joint_positions(self) -> NDArray[np.float64]:
-        """The seven arm joint angles [rad], shape (7,)."""
-        return np.asarray(self.data.qpos[self._arm_qpos], dtype=np.float64).copy()
-
-    def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """End-effector position [m], shape (3,), and orientation (x, y, z, w)."""
-        quat = np.zeros(4)
-        mujoco.mju_mat2Quat(quat, self.data.site_xmat[self._ee_site])
-        return self.data.site_xpos[self._ee_site].copy(), wxyz_to_xyzw(quat)
-
-    def get_gripper_state(self) -> float:
-        """Commanded gripper state: 1.0 closed, 0.0 open."""
-        return self._gripper
-
-    def gripper_opening(self) -> float:
-        """Measured distance between the fingers [m] (0 closed, 0.08 fully open)."""
-        q = self.data.qpos[self._finger_qpos]
-        return float(q[0] - q[1])
-
+    # ------------------------------------------------------- ground truth
     def object_position(self, name: str) -> NDArray[np.float64]:
         """Simulator ground-truth position [m] of an object's root body (for success checks)."""
         self.registry.resolve(name, self._present)

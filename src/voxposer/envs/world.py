@@ -7,44 +7,29 @@ approach axis is its local +z (a top-down grasp points along world −z, :data:`
 
 from __future__ import annotations
 
-import logging
 import math
 from collections.abc import Callable
 
 import mujoco
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from voxposer.catalog import DRAWERS, OBJECTS
-from voxposer.envs.actions import check_command
+from voxposer.envs.arm import ArmControlMixin
 from voxposer.envs.config import WorldConfig
-from voxposer.envs.controller import PoseController
 from voxposer.envs.disturbances import DisturbanceMixin
-from voxposer.envs.ik import HOME_Q, IKSolver, rotation_angle
+from voxposer.envs.ik import HOME_Q
 from voxposer.envs.layout import Placement, SceneLayout, sample_placement
 from voxposer.envs.registry import ObjectRegistry, body_of
-from voxposer.envs.robot_model import (
-    ARM_ACTUATORS,
-    ARM_JOINTS,
-    EE_SITE,
-    FINGER_ACTUATORS,
-    FINGER_JOINTS,
-    FINGER_OPEN,
-)
+from voxposer.envs.robot_model import FINGER_OPEN
 from voxposer.envs.scene import PARKING_Z, build_scene
 from voxposer.envs.sensing import SensingMixin
-from voxposer.errors import (
-    LayoutError,
-    SimulationUnstableError,
-    UnreachablePoseError,
-    VoxPoserError,
-)
+from voxposer.errors import LayoutError, SimulationUnstableError, VoxPoserError
 from voxposer.geometry.frames import TOP_DOWN_QUAT as _TOP_DOWN
-from voxposer.geometry.frames import wxyz_to_xyzw, xyzw_to_wxyz
 from voxposer.robot import MoveResult, StepResult
 
-log = logging.getLogger(__name__)
+__all__ = ["TOP_DOWN_QUAT", "MoveResult", "StepResult", "TabletopWorld"]
 
 #: Top-down end-effector orientation (x, y, z, w): approach axis along world −z, fingers along y.
 TOP_DOWN_QUAT: NDArray[np.float64] = np.array(_TOP_DOWN)
@@ -55,7 +40,7 @@ def _yaw_quat(yaw: float) -> NDArray[np.float64]:
     return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
 
 
-class TabletopWorld(SensingMixin, DisturbanceMixin):
+class TabletopWorld(SensingMixin, DisturbanceMixin, ArmControlMixin):
     """The Panda, ten blocks, ten lines and a three-drawer cabinet on a table, with four cameras.
 
     It is a :class:`voxposer.robot.Robot` and an observation source
@@ -71,16 +56,7 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
         self.model = build_scene(self.config)
         self.data = mujoco.MjData(self.model)
         self.registry = ObjectRegistry(self.model)
-        ctl = self.config.controller
-        self.ik = IKSolver(self.config.robot_base, ctl.position_tolerance, ctl.rotation_tolerance)
-        self.controller = PoseController(self.ik, ctl)
-        m = self.model
-        self._arm_qpos = np.array([m.joint(j).qposadr[0] for j in ARM_JOINTS])
-        self._arm_dof = np.array([m.joint(j).dofadr[0] for j in ARM_JOINTS])
-        self._finger_qpos = np.array([m.joint(j).qposadr[0] for j in FINGER_JOINTS])
-        self._arm_act = np.array([m.actuator(a).id for a in ARM_ACTUATORS])
-        self._finger_act = np.array([m.actuator(a).id for a in FINGER_ACTUATORS])
-        self._ee_site = m.site(EE_SITE).id
+        self._bind_arm()
         self._renderer = None
         self._obs = None
         self._obs_key: tuple[float, int, int, bool] | None = None
@@ -208,104 +184,3 @@ class TabletopWorld(SensingMixin, DisturbanceMixin):
         return sum(int(w[k].number) for k in (mujoco.mjtWarning.mjWARN_BADQPOS,
                                               mujoco.mjtWarning.mjWARN_BADQVEL,
                                               mujoco.mjtWarning.mjWARN_BADQACC))
-
-    def _set_gripper(self, gripper: float | None) -> bool:
-        if gripper is None or (gripper >= 0.5) == (self._gripper >= 0.5):
-            return False
-        self._gripper = 1.0 if gripper >= 0.5 else 0.0
-        opening = 0.0 if self._gripper else FINGER_OPEN
-        self.data.ctrl[self._finger_act] = (opening, -opening)
-        return True
-
-    # -------------------------------------------------------------- control
-    def step(self, position: ArrayLike, quat_xyzw: ArrayLike, gripper: float | None = None,
-             speed_scale: float = 1.0) -> StepResult:
-        """Execute one controller period (``control_dt``) toward an end-effector pose.
-
-        The reference moves at most ``ee_speed * speed_scale * control_dt`` toward the target;
-        this is the cheap building block of closed-loop execution (one waypoint per call).
-        """
-        cmd = check_command(position, quat_xyzw, gripper, speed_scale, grid=self.grid,
-                            max_speed_scale=self.config.controller.max_speed_scale)
-        self._set_gripper(cmd.gripper)
-        wp = self.controller.next_waypoint(cmd.position, xyzw_to_wxyz(cmd.quat_xyzw), cmd.speed_scale)
-        self.data.ctrl[self._arm_act] = wp.q
-        self.advance(self.config.substeps)
-        return StepResult(self.data.site_xpos[self._ee_site].copy(), wp.at_goal, float(self.data.time))
-
-    def move_to_pose(self, position: ArrayLike, quat_xyzw: ArrayLike | None = None,
-                     speed_scale: float = 1.0, gripper: float | None = None) -> MoveResult:
-        """Move the end-effector to a pose and wait until it arrives (or ``settle_time`` passes).
-
-        Args:
-            position: target [m], shape (3,).
-            quat_xyzw: target orientation (x, y, z, w); None keeps the current one.
-            speed_scale: multiplies the default end-effector speed.
-            gripper: 1 to close or 0 to open once the pose is reached; None leaves it.
-
-        Raises:
-            UnreachablePoseError: no joint configuration reaches the pose (with the closest
-                reachable position/orientation error); the robot does not move.
-            InvalidActionError: NaN or out-of-range arguments.
-        """
-        quat = self.get_ee_pose()[1] if quat_xyzw is None else quat_xyzw
-        cmd = check_command(position, quat, gripper, speed_scale, grid=self.grid,
-                            max_speed_scale=self.config.controller.max_speed_scale)
-        target_q = xyzw_to_wxyz(cmd.quat_xyzw)
-        goal = self.controller.solve_goal(cmd.position, target_q, self._rng)
-        if not goal.success:
-            raise UnreachablePoseError(np.round(cmd.position, 4).tolist(), goal.position_error,
-                                       goal.rotation_error)
-        ctl = self.config.controller
-        start = float(self.data.time)
-        for _ in range(100_000):
-            wp = self.controller.next_waypoint(cmd.position, target_q, cmd.speed_scale)
-            self.data.ctrl[self._arm_act] = wp.q
-            self.advance(self.config.substeps)
-            if wp.at_goal:
-                break
-        pos_err, rot_err = self._pose_error(cmd.position, target_q)
-        if not np.allclose(self.controller.q_cmd, goal.q, atol=0.05) and wp.tracking_error > ctl.position_tolerance:
-            log.debug("straight-line IK got stuck %.3f m short; finishing in joint space", pos_err)
-            while not self.controller.joint_step(goal.q, cmd.speed_scale):
-                self.data.ctrl[self._arm_act] = self.controller.q_cmd
-                self.advance(self.config.substeps)
-            self.data.ctrl[self._arm_act] = self.controller.q_cmd
-        settle_end = float(self.data.time) + ctl.settle_time
-        while float(self.data.time) < settle_end:
-            pos_err, rot_err = self._pose_error(cmd.position, target_q)
-            if pos_err <= ctl.position_tolerance and rot_err <= ctl.rotation_tolerance:
-                break
-            self.advance(self.config.substeps)
-        if self._set_gripper(cmd.gripper):
-            self.advance(round(ctl.gripper_time / self.config.timestep))
-        pos_err, rot_err = self._pose_error(cmd.position, target_q)
-        reached = pos_err <= 2 * ctl.position_tolerance and rot_err <= 2 * ctl.rotation_tolerance
-        if not reached:
-            log.warning("move_to_pose ended %.1f cm / %.3f rad from its target (blocked?)",
-                        pos_err * 100, rot_err)
-        return MoveResult(reached, pos_err, rot_err, float(self.data.time) - start)
-
-    def _pose_error(self, pos: NDArray[np.float64], quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
-        here = np.zeros(4)
-        mujoco.mju_mat2Quat(here, self.data.site_xmat[self._ee_site])
-        return (float(np.linalg.norm(self.data.site_xpos[self._ee_site] - pos)),
-                rotation_angle(here, quat_wxyz))
-
-    def _actuate_gripper(self, gripper: float) -> None:
-        if self._set_gripper(gripper):
-            self.data.ctrl[self._arm_act] = self.controller.q_cmd
-            self.advance(round(self.config.controller.gripper_time / self.config.timestep))
-
-    def open_gripper(self) -> None:
-        """Open the fingers (and wait ``gripper_time`` while the arm holds its pose)."""
-        self._actuate_gripper(0.0)
-
-    def close_gripper(self) -> None:
-        """Close the fingers (and wait ``gripper_time`` while the arm holds its pose)."""
-        self._actuate_gripper(1.0)
-
-    def reset_to_default_pose(self, speed_scale: float = 1.0) -> MoveResult:
-        """Move back to the ready pose (the paper's ``reset_to_default_pose``)."""
-        pos, quat = self.ik.forward(HOME_Q)
-        return self.move_to_pose(pos, wxyz_to_xyzw(quat), speed_scale)

@@ -10,11 +10,14 @@ Public API:
   a cabinet fit)
 * :class:`DetectedObject` (a frozen dataclass that also reads like a dict), :func:`detect_in_cloud`
 * :func:`scene_occupancy`, :func:`match_name`, :func:`normalize_name`, :func:`is_end_effector`
+* :class:`SensorNoiseConfig`, :func:`add_sensor_noise` (a consumer RGB-D camera's errors on
+  simulated views) and :class:`NoisyObservationSource` (a source serving noisy views)
 """
 
 from voxposer.perception.colour_depth import ColourDepthPerceiver
 from voxposer.perception.detect import DetectedObject, detect_in_cloud
 from voxposer.perception.names import is_end_effector, match_name, normalize_name
+from voxposer.perception.noisy_source import NoisyObservationSource
 from voxposer.perception.observation import CameraFrame, Observation
 from voxposer.perception.perceiver import ObservationSource, Perceiver
 from voxposer.perception.point_cloud import (
@@ -25,16 +28,20 @@ from voxposer.perception.point_cloud import (
 )
 from voxposer.perception.scene_occupancy import scene_occupancy
 from voxposer.perception.segmentation import SegmentationPerceiver
+from voxposer.perception.sensor_noise import SensorNoiseConfig, add_sensor_noise
 
 __all__ = [
     "CameraFrame",
     "ColourDepthPerceiver",
     "DetectedObject",
+    "NoisyObservationSource",
     "Observation",
     "ObservationSource",
     "Perceiver",
     "PointCloud",
     "SegmentationPerceiver",
+    "SensorNoiseConfig",
+    "add_sensor_noise",
     "backproject",
     "camera_normals",
     "detect_in_cloud",

@@ -65,10 +65,10 @@ class SegmentationPerceiver:
         canonical = match_name(name, self.object_names)
         cloud = self.point_cloud()
         names = self.observe().label_names
-        members = set(catalog.family(canonical)) if canonical in names else {canonical}
+        known = canonical in names and _in_catalog(canonical)  # other scenes: parts stand alone
+        members = set(catalog.family(canonical)) if known else {canonical}
         labels = np.asarray([k for k, n in enumerate(names) if n in members], dtype=np.int32)
-        sliding = canonical in names and catalog.object_named(canonical).kind in \
-            catalog.SLIDING_KINDS
+        sliding = known and catalog.object_named(canonical).kind in catalog.SLIDING_KINDS
         return detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
 
     def scene_occupancy(self, entity: str, *, holding: bool, ignore_table: bool = False
@@ -91,6 +91,15 @@ class SegmentationPerceiver:
             return None
         drawer = obj.parent if obj.kind == "handle" and obj.parent is not None else obj.name
         return dominant_normal(np.asarray(self.detect(drawer).normals, dtype=np.float64))
+
+
+def _in_catalog(name: str) -> bool:
+    """Whether the tabletop catalog holds ``name`` (an articulated scene's parts it does not)."""
+    try:
+        catalog.object_named(name)
+    except KeyError:
+        return False
+    return True
 
 
 def dominant_normal(normals: NDArray[np.float64], cone_deg: float = 25.0, rounds: int = 3

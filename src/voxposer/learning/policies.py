@@ -1,0 +1,95 @@
+"""How actions are chosen while learning: MPC through the current model, sampling around τ₀
+("with prior") or uniformly over the action space ("without prior").
+
+Before the first model is trained there is nothing to roll out: the "with prior" policy then
+follows τ₀ with noise ε ~ N(0, σ²) on each waypoint, the "without prior" one acts uniformly at
+random. The end-effector's orientation is the zero-shot run's for the current stage (its
+rotation map), in both cases.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from voxposer.errors import ConfigError
+from voxposer.learning.task_cost import TaskCost
+from voxposer.learning.zero_shot import ZeroShotTrajectory
+from voxposer.planning.dynamics.state_model import StateDynamicsModel
+from voxposer.planning.waypoint_mpc import WaypointMPCConfig, plan_action, sample_action_sequences
+
+
+def stage_orientations(trajectory: ZeroShotTrajectory) -> NDArray[np.float64]:
+    """The end-effector orientation (x, y, z, w) the zero-shot run held at the end of each
+    stage, shape (n_stages, 4) (a stage never visited takes the previous one's)."""
+    out = np.empty((len(trajectory.stages), 4))
+    last = trajectory.quats[0]
+    for s in range(len(trajectory.stages)):
+        rows = np.flatnonzero(trajectory.stage_of == s)
+        if len(rows):
+            last = trajectory.quats[rows[-1]]
+        out[s] = last
+    return out
+
+
+class LearningPolicy:
+    """MPC over a learned model with the paper's two sampling distributions.
+
+    Args:
+        cost: the task cost (the zero-shot value maps).
+        mpc: samples, horizon, σ and the action box.
+        prior: the zero-shot trajectory to sample around, or None (uniform sampling).
+        orientations: per stage, the end-effector orientation (x, y, z, w), shape (S, 4).
+        model: the current dynamics model, or None before the first training.
+    """
+
+    def __init__(self, cost: TaskCost, mpc: WaypointMPCConfig,
+                 prior: ZeroShotTrajectory | None, orientations: NDArray[np.float64],
+                 model: StateDynamicsModel | None = None) -> None:
+        self.cost = cost
+        self.mpc = mpc
+        self.prior = prior
+        self.orientations = orientations
+        self.model = model
+
+    def prior_window(self, obs: NDArray[np.float64], step: int) -> tuple[NDArray[np.float64],
+                                                                         NDArray[np.float64]]:
+        """(prior actions from ``step`` on, shape (H, 4), and their end-effector targets [m],
+        shape (H, 3)): toward τ₀'s next waypoints from where the end effector is now."""
+        if self.prior is None:
+            raise ConfigError("a prior window needs a zero-shot trajectory (prior on)")
+        w, g = self.prior.waypoints, self.prior.gripper
+        h = self.mpc.horizon
+        idx = np.minimum(np.arange(step + 1, step + 1 + h), len(w) - 1)
+        targets = w[idx]
+        starts = np.vstack([obs[None, :3], targets[:-1]])
+        return np.column_stack([targets - starts, g[idx]]), targets
+
+    def stage_at(self, step: int) -> int:
+        """τ₀'s sub-task at ``step`` with a prior (the stage follows the prior's timing as well
+        as the progress made), else 0."""
+        if self.prior is None:
+            return 0
+        return int(self.prior.stage_of[min(step, len(self.prior.stage_of) - 1)])
+
+    def act(self, obs: NDArray[np.float64], step: int, stage: int,
+            rng: np.random.Generator) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(a_t, shape (4,), the orientation to hold), see :class:`~voxposer.learning.rollout.
+        Policy`."""
+        quat = self.orientations[min(stage, len(self.orientations) - 1)]
+        prior, targets = (self.prior_window(obs, step) if self.prior is not None
+                          else (None, None))
+        if self.model is None:
+            one = WaypointMPCConfig(self.mpc.action_low, self.mpc.action_high, n_samples=1,
+                                    horizon=self.mpc.horizon, sigma=self.mpc.sigma)
+            return sample_action_sequences(rng, one, prior)[0, 0], quat
+
+        def cost_fn(predicted: NDArray[np.float64],
+                    actions: NDArray[np.float64]) -> NDArray[np.float64]:
+            return self.cost(predicted, actions, stage, targets)
+
+        plan = plan_action(self.model, obs, cost_fn, rng, self.mpc, prior)
+        return np.asarray(plan.action), quat
+
+
+__all__ = ["LearningPolicy", "stage_orientations"]

@@ -1,0 +1,80 @@
+"""The stage-wise value-map cost and the recorded zero-shot trajectory."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from voxposer.errors import ConfigError
+from voxposer.learning.state import LAYOUTS
+from voxposer.learning.task_cost import TaskCost, TaskCostConfig
+from voxposer.learning.zero_shot import ZeroShotTrajectory, load_trajectories
+
+from .toy_door import HANDLE, trajectory
+
+
+def _obs(ee: np.ndarray, handle: np.ndarray) -> np.ndarray:
+    return np.r_[ee, 0.0, handle, 0.0, 0.0]
+
+
+def test_stage_advances_only_when_its_entity_reaches_the_target() -> None:
+    cost = TaskCost(trajectory().stages, LAYOUTS["door"])
+    far = _obs(np.array([0.0, 0.0, 0.3]), HANDLE)
+    at_handle = _obs(HANDLE + [0.005, 0, 0], HANDLE)
+    assert cost.advance(far, 0) == 0
+    assert cost.advance(at_handle, 0) == 1
+    # the last stage's entity is the handle: the hand near its target does not end it
+    assert cost.advance(_obs(HANDLE - [0.2, 0, 0], HANDLE), 1) == 1
+    assert cost.remaining(_obs(HANDLE, HANDLE - [0.2, 0, 0]), 1) < 0.02
+
+
+def test_cost_ranks_samples_by_the_stage_entity() -> None:
+    cost = TaskCost(trajectory().stages, LAYOUTS["door"], TaskCostConfig(prior_weight=0.0))
+    pulled = _obs(HANDLE - [0.1, 0, 0], HANDLE - [0.1, 0, 0])
+    stuck = _obs(HANDLE - [0.1, 0, 0], HANDLE)  # the hand moved, the handle did not
+    predicted = np.stack([np.tile(pulled, (3, 1)), np.tile(stuck, (3, 1))])
+    c = cost(predicted, np.zeros((2, 3, 4)), stage=1)
+    assert c.shape == (2,) and c[0] < c[1]
+    # in stage 0 (entity: the hand) both are equally far from the handle
+    c0 = cost(predicted, np.zeros((2, 3, 4)), stage=0)
+    assert c0[0] == pytest.approx(c0[1])
+
+
+def test_prior_term_prefers_samples_near_the_prior_targets() -> None:
+    cost = TaskCost(trajectory().stages, LAYOUTS["door"])
+    near, off = _obs(HANDLE, HANDLE), _obs(HANDLE + [0, 0.05, 0], HANDLE)
+    predicted = np.stack([np.tile(near, (2, 1)), np.tile(off, (2, 1))])
+    c = cost(predicted, np.zeros((2, 2, 4)), 1, prior_targets=np.tile(HANDLE, (2, 1)))
+    assert c[0] < c[1]
+
+
+def test_bad_weights_and_entities_are_refused() -> None:
+    with pytest.raises(ConfigError, match="reach_m"):
+        TaskCostConfig(reach_m=-1)
+    with pytest.raises(ConfigError, match=r"'cup'.*observed: gripper, door handle, door"):
+        LAYOUTS["door"].entity_slice("cup")
+
+
+def test_zero_shot_round_trip_and_prior_actions(tmp_path: Path) -> None:
+    traj = trajectory(seed=3)
+    path = traj.save(tmp_path)
+    back = ZeroShotTrajectory.load(path)
+    assert path.name == "toy-3.npz"
+    np.testing.assert_array_equal(back.waypoints, traj.waypoints)
+    np.testing.assert_array_equal(back.stages[1].cost, traj.stages[1].cost)
+    assert back.stages[1].entity == "door handle" and back.stages[0].grid == traj.stages[0].grid
+    acts = back.prior_actions
+    assert acts.shape == (len(traj.waypoints) - 1, 4)
+    np.testing.assert_allclose(traj.waypoints[0] + acts[:, :3].sum(axis=0), traj.waypoints[-1])
+    assert load_trajectories(tmp_path, "door")[0].seed == 3
+    with pytest.raises(ConfigError, match="no zero-shot trajectory of task 'fridge'"):
+        load_trajectories(tmp_path, "fridge")
+
+
+def test_malformed_trajectory_is_refused() -> None:
+    t = trajectory()
+    with pytest.raises(ConfigError, match="gripper has 3 rows"):
+        ZeroShotTrajectory(t.task, t.source, 0, t.waypoints, t.quats, t.gripper[:3],
+                           t.stage_of, 0.25, False, t.stages)
