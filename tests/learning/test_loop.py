@@ -105,3 +105,22 @@ def test_bad_config_names_the_field() -> None:
         LearnConfig(time_limit_s=0)
     with pytest.raises(ConfigError, match="eval_episodes"):
         LearnConfig(eval_episodes=0)
+
+
+class _Drift:
+    """Always 3 cm toward +y, gripper open (a policy double)."""
+
+    def act(self, obs, step, stage, rng):  # type: ignore[no-untyped-def]
+        return np.array([0.0, 0.03, 0.0, 0.0]), np.array([0.0, 0.0, 0.0, 1.0])
+
+    def stage_at(self, step: int) -> int:
+        return 0
+
+
+def test_targets_off_the_workspace_are_clipped_and_the_episode_goes_on() -> None:
+    door, observer = _world("door")
+    cost = TaskCost(trajectory().stages, observer.layout)
+    ep = run_episode(door, observer, _Drift(), cost, RolloutConfig(max_steps=20),
+                     np.random.default_rng(0))
+    assert len(ep.actions) == 20
+    assert ep.obs[-1, 1] == pytest.approx(door.grid.bounds_max[1] - 0.01)

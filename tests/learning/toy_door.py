@@ -52,6 +52,7 @@ class ToyDoor:
     """The robot-and-door double (see the module docstring)."""
 
     control_period = 0.05
+    grid = GRID
 
     def __init__(self) -> None:
         self.reset(np.random.default_rng(0))

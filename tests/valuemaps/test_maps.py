@@ -101,3 +101,19 @@ def test_check_value_map_rejects_bad_maps(api: ValueMapAPI) -> None:
     with pytest.raises(InvalidMapError, match=r"expected \(100, 100, 100, 4\)"):
         check_value_map("rotation", np.zeros(grid.shape), grid)
     assert check_value_map("gripper", np.zeros(grid.shape, bool), grid).dtype == np.float32
+
+
+def test_pointat2quat_turns_the_fingers_across_a_bar() -> None:
+    from scipy.spatial.transform import Rotation
+
+    from voxposer.geometry.frames import pointat2quat
+
+    approach = np.array([1.0, 0.0, -1.0]) / np.sqrt(2)
+    plain = Rotation.from_quat(pointat2quat(approach))
+    turned = Rotation.from_quat(pointat2quat(approach, fingers=[1.0, 0.0, 0.0]))
+    np.testing.assert_allclose(turned.apply([0, 0, 1]), approach, atol=1e-9)  # same approach
+    np.testing.assert_allclose(plain.apply([1, 0, 0]), [0, 1, 0], atol=1e-9)  # fingers along y
+    fingers = turned.apply([1, 0, 0])  # now across a bar along y, as near x as the tilt allows
+    assert abs(fingers[1]) < 1e-9 and abs(abs(fingers @ [1, 0, 1]) / np.sqrt(2) - 1) < 1e-9
+    # a fingers direction along the approach changes nothing
+    np.testing.assert_allclose(pointat2quat(approach, fingers=approach), pointat2quat(approach))

@@ -17,7 +17,7 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -46,6 +46,9 @@ class LearnConfig:
         eval_episodes: evaluation episodes after each training.
         epochs_per_iteration: passes over all transitions per training.
         converged_success: evaluation success that ends the run.
+        extra_steps: an episode lasts as many actions as its τ₀ has waypoints and this many
+            more (in both arms: τ₀'s length is the task's time budget), at most
+            ``rollout.max_steps``.
         n_samples: MPC samples per step.
         horizon: MPC horizon [actions].
         rollout: how actions are executed.
@@ -60,6 +63,7 @@ class LearnConfig:
     eval_episodes: int = 3
     epochs_per_iteration: int = 30
     converged_success: float = 0.8
+    extra_steps: int = 8
     n_samples: int = 1000
     horizon: int = 5
     rollout: RolloutConfig = field(default_factory=RolloutConfig)
@@ -134,7 +138,9 @@ class _Run:
         cost = TaskCost(traj.stages, self.observer.layout, self.config.cost)
         policy = LearningPolicy(cost, self.config.mpc(), traj if self.spec.prior else None,
                                 stage_orientations(traj), self.model)
-        return run_episode(self.world, self.observer, policy, cost, self.config.rollout, rng)
+        steps = min(self.config.rollout.max_steps, len(traj.waypoints) + self.config.extra_steps)
+        rollout = replace(self.config.rollout, max_steps=steps)
+        return run_episode(self.world, self.observer, policy, cost, rollout, rng)
 
     def iteration(self, iteration: int) -> dict[str, Any]:
         """Collect, train, evaluate; the iteration's record (``final`` set when it ends the run)."""

@@ -61,6 +61,8 @@ def reference_entries(task: str) -> list[dict[str, Any]]:
     if task not in _MOVES:
         raise ConfigError(f"no reference program for task {task!r}; tasks: {', '.join(_MOVES)}")
     handle, front, steep, moves = _MOVES[task]
+    # a bar across the door is gripped across it; the window's knob with the fingers along y
+    fingers = "[-front.normal[0], -front.normal[1], 0]" if task != "window" else "None"
     code: dict[tuple[str, str], str] = {}
     plan = [f"composer('grasp the {handle}')"]
     plan += [f"composer('{sub}')" for sub, _, _ in moves]
@@ -73,7 +75,8 @@ def reference_entries(task: str) -> list[dict[str, Any]]:
         "x, y, z = handle.position", "affordance_map[x, y, z] = 1", "ret_val = affordance_map"])
     code[("get_rotation_map", f"face the {handle} from above")] = "\n".join([
         "rotation_map = get_empty_rotation_map()", f"front = parse_query_obj('{front}')",
-        f"rotation_map[:, :, :] = pointat2quat([-front.normal[0], -front.normal[1], -{steep}])",
+        "rotation_map[:, :, :] = pointat2quat([-front.normal[0], -front.normal[1], "
+        f"-{steep}], fingers={fingers})",
         "ret_val = rotation_map"])
     code[("get_gripper_map", f"open everywhere except 1cm around the {handle}")] = "\n".join([
         "gripper_map = get_empty_gripper_map()", f"handle = parse_query_obj('{handle}')",

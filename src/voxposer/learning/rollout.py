@@ -16,8 +16,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.errors import ConfigError, SimulationUnstableError, UnreachablePoseError
+from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.learning.state import StateObserver
 from voxposer.learning.task_cost import TaskCost
+
+#: End-effector targets are kept this far inside the workspace box [m].
+_MARGIN_M = 0.01
 
 
 @dataclass(frozen=True)
@@ -78,6 +82,9 @@ class ArticulatedScene(Protocol):
     def control_period(self) -> float: ...
 
     @property
+    def grid(self) -> VoxelGrid: ...
+
+    @property
     def time(self) -> float: ...
 
     def get_ee_pose(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
@@ -125,7 +132,9 @@ def run_episode(world: ArticulatedScene, observer: StateObserver, policy: Policy
         action, quat = policy.act(obs[-1], step, stage, rng)
         action = np.clip(action, config.action_low, config.action_high)
         ee, _ = world.get_ee_pose()
-        target, grip = ee + action[:3], 1.0 if action[3] >= 0.5 else 0.0
+        lo, hi = world.grid.bounds_min + _MARGIN_M, world.grid.bounds_max - _MARGIN_M
+        target = np.clip(ee + action[:3], lo, hi)  # the robot refuses targets off its workspace
+        grip = 1.0 if action[3] >= 0.5 else 0.0
         try:
             for _ in range(n_control):
                 world.step(target, quat, grip)

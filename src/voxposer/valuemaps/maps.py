@@ -141,9 +141,10 @@ class ValueMapAPI:
         block[inside] = value
         return voxel_map
 
-    def pointat2quat(self, vector: ArrayLike) -> NDArray[np.float64]:
+    def pointat2quat(self, vector: ArrayLike, fingers: ArrayLike | None = None
+                     ) -> NDArray[np.float64]:
         """See :func:`pointat2quat`."""
-        return pointat2quat(vector)
+        return pointat2quat(vector, fingers)
 
     def cm2index(self, cm: float, direction: str | ArrayLike) -> int | NDArray[np.int64]:
         """See :meth:`VoxelGrid.cm2index`."""
