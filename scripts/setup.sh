@@ -51,7 +51,7 @@ want=$(cat pyproject.toml scripts/setup.sh | sha256sum | cut -d' ' -f1)
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ] || ! "$VPY" -c 'import voxposer' 2>/dev/null; then
   log "installing Python packages (pinned in pyproject.toml)"
   "$VPY" -m pip install -q --disable-pip-version-check --upgrade pip
-  "$VPY" -m pip install -q --disable-pip-version-check -e ".[dev,model]"
+  "$VPY" -m pip install -q --disable-pip-version-check -e ".[dev,model,vision]"
   # Panda + gripper meshes/MJCF are read as files from robosuite's wheel; robosuite itself is
   # never imported, so none of its dependencies are installed.
   "$VPY" -m pip install -q --disable-pip-version-check --no-deps robosuite==1.5.2

@@ -128,6 +128,26 @@ class ControllerConfig:
                 raise ConfigError(f"ControllerConfig.{name} must be a non-negative int; got {value!r}")
 
 
+def check_world_timing(owner: str, timestep: float, controller: ControllerConfig,
+                       table_min: tuple[float, float], table_max: tuple[float, float]) -> None:
+    """Check a world config's physics step [s] (at most 0.01 s, dividing the controller period)
+    and its table rectangle [m]; ``owner`` names the config class in the messages.
+
+    Raises:
+        ConfigError: naming the field and the bad value.
+    """
+    if timestep > 0.01:
+        raise ConfigError(f"{owner}.timestep must be <= 0.01 s; got {timestep!r}")
+    steps = controller.control_dt / timestep
+    if abs(steps - round(steps)) > 1e-6 or round(steps) < 1:
+        raise ConfigError(
+            f"ControllerConfig.control_dt ({controller.control_dt}) must be a whole "
+            f"multiple of {owner}.timestep ({timestep})"
+        )
+    if any(lo >= hi for lo, hi in zip(table_min, table_max, strict=True)):
+        raise ConfigError(f"{owner}.table_min {table_min} must be below table_max {table_max}")
+
+
 @dataclass(frozen=True)
 class WorldConfig:
     """The tabletop world: table, robot placement, objects, physics and workspace grid.
@@ -165,18 +185,8 @@ class WorldConfig:
         for name in ("timestep", "block_size", "block_mass", "block_friction", "line_length",
                      "line_width"):
             _positive(f"WorldConfig.{name}", getattr(self, name))
-        if self.timestep > 0.01:
-            raise ConfigError(f"WorldConfig.timestep must be <= 0.01 s; got {self.timestep!r}")
-        steps = self.controller.control_dt / self.timestep
-        if abs(steps - round(steps)) > 1e-6 or round(steps) < 1:
-            raise ConfigError(
-                f"ControllerConfig.control_dt ({self.controller.control_dt}) must be a whole "
-                f"multiple of WorldConfig.timestep ({self.timestep})"
-            )
-        if any(lo >= hi for lo, hi in zip(self.table_min, self.table_max, strict=True)):
-            raise ConfigError(
-                f"WorldConfig.table_min {self.table_min} must be below table_max {self.table_max}"
-            )
+        check_world_timing("WorldConfig", self.timestep, self.controller, self.table_min,
+                           self.table_max)
         self.grid  # noqa: B018 - validates the workspace box (raises GridError)
 
     @property

@@ -11,33 +11,28 @@ from __future__ import annotations
 
 import math
 
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.catalog import OBJECTS
-from voxposer.envs.arm import ArmStateMixin
-from voxposer.envs.cameras import CameraRenderer
 from voxposer.envs.config import WorldConfig
 from voxposer.envs.registry import ObjectRegistry
+from voxposer.envs.views import CameraViewsMixin
 from voxposer.geometry.voxel_grid import VoxelGrid
-from voxposer.perception.observation import Observation
+
+#: the segmentation channel's names: every catalog object, in catalog order
+_CATALOG_NAMES = tuple(o.name for o in OBJECTS)
 
 
-class SensingMixin(ArmStateMixin):
-    """Observation and ground-truth queries (needs the attributes declared below; the robot's
-    state queries come from :class:`~voxposer.envs.arm.ArmStateMixin`)."""
+class SensingMixin(CameraViewsMixin):
+    """Observation and ground-truth queries (needs the attributes declared below; rendering and
+    observations come from :class:`~voxposer.envs.views.CameraViewsMixin`, the robot's state
+    queries from :class:`~voxposer.envs.arm.ArmStateMixin`)."""
 
     config: WorldConfig
     grid: VoxelGrid
-    model: mujoco.MjModel
-    data: mujoco.MjData
     registry: ObjectRegistry
-    _renderer: CameraRenderer | None
-    _obs: Observation | None
-    _obs_key: tuple[float, int, int, bool] | None
     _present: tuple[str, ...]
-    _gripper: float
 
     # ----------------------------------------------------------------- names
     @property
@@ -45,64 +40,11 @@ class SensingMixin(ArmStateMixin):
         """Canonical names of the objects in the current scene."""
         return self._present
 
-    @property
-    def camera_names(self) -> tuple[str, ...]:
-        """The cameras, e.g. ``("front_left", "front_right", "back_left", "back_right")``."""
-        return self.config.cameras.names
+    def _geom_label_ids(self) -> NDArray[np.int32]:
+        return self.registry.geom_labels
 
-    # ------------------------------------------------------------ rendering
-    def _camera_renderer(self) -> CameraRenderer:
-        if self._renderer is None:
-            cams = self.config.cameras
-            self._renderer = CameraRenderer(self.model, self.registry.geom_labels,
-                                            shadows=cams.shadows, depth_max=cams.depth_max,
-                                            detailed_robot=cams.detailed_robot)
-        return self._renderer
-
-    def render(self, camera: str, width: int | None = None, height: int | None = None
-               ) -> NDArray[np.uint8]:
-        """RGB image, shape (height, width, 3), of ``camera`` (e.g. ``"front_left"``)."""
-        cams = self.config.cameras
-        frame = self._camera_renderer().render(
-            self.data, f"{camera.removesuffix('_camera')}_camera", width or cams.width,
-            height or cams.height, segmentation=False)
-        return frame.rgb
-
-    def observe(self, width: int | None = None, height: int | None = None, *,
-                rgb: bool = True) -> Observation:
-        """All camera views (RGB, depth [m], intrinsics, extrinsics, ground-truth object ids)
-        and the robot's state. Cached until the state changes.
-
-        ``rgb=False`` skips the colour pass (images are black): enough for planning and
-        detection, about half the rendering time. An RGB observation also serves
-        later ``rgb=False`` requests at the same instant.
-        """
-        cams = self.config.cameras
-        w, h = width or cams.width, height or cams.height
-        key = (float(self.data.time), w, h)
-        if self._obs is not None and self._obs_key is not None and self._obs_key[:3] == key and (
-                self._obs_key[3] or not rgb):
-            return self._obs
-        renderer = self._camera_renderer()
-        frames = tuple(renderer.render(self.data, f"{name}_camera", w, h, colour=rgb)
-                       for name in cams.names)
-        pos, quat = self.get_ee_pose()
-        self._obs = Observation(
-            time=float(self.data.time),
-            cameras=frames,
-            ee_position=pos,
-            ee_quat=quat,
-            gripper=self._gripper,
-            label_names=tuple(o.name for o in OBJECTS),
-        )
-        self._obs_key = (*key, rgb)
-        return self._obs
-
-    def close(self) -> None:
-        """Release the rendering context (the world stays usable; rendering reopens it)."""
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+    def _label_names(self) -> tuple[str, ...]:
+        return _CATALOG_NAMES
 
     # ------------------------------------------------------- ground truth
     def object_position(self, name: str) -> NDArray[np.float64]:

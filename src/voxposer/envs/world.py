@@ -25,7 +25,8 @@ from voxposer.envs.registry import ObjectRegistry, body_of
 from voxposer.envs.robot_model import FINGER_OPEN
 from voxposer.envs.scene import PARKING_Z, build_scene
 from voxposer.envs.sensing import SensingMixin
-from voxposer.errors import LayoutError, SimulationUnstableError, VoxPoserError
+from voxposer.envs.stepping import SteppedPhysicsMixin
+from voxposer.errors import LayoutError, VoxPoserError
 from voxposer.geometry.frames import TOP_DOWN_QUAT as _TOP_DOWN
 from voxposer.robot import MoveResult, StepResult
 
@@ -40,7 +41,7 @@ def _yaw_quat(yaw: float) -> NDArray[np.float64]:
     return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
 
 
-class TabletopWorld(SensingMixin, DisturbanceMixin, ArmControlMixin):
+class TabletopWorld(SensingMixin, SteppedPhysicsMixin, DisturbanceMixin, ArmControlMixin):
     """The Panda, ten blocks, ten lines and a three-drawer cabinet on a table, with four cameras.
 
     It is a :class:`voxposer.robot.Robot` and an observation source
@@ -142,17 +143,10 @@ class TabletopWorld(SensingMixin, DisturbanceMixin, ArmControlMixin):
                               f"{result.position_error * 100:.1f} cm")
 
     # -------------------------------------------------------------- physics
-    def advance(self, nsteps: int) -> None:
-        """Step the physics ``nsteps`` times with the current commands (and any active force).
-
-        Raises:
-            SimulationUnstableError: the state became NaN/inf or MuJoCo flagged bad accelerations;
-                the world must be :meth:`reset` before it can step again.
-        """
-        if self._unstable:
-            raise SimulationUnstableError("the simulation diverged earlier; call reset() first")
+    def _integrate(self, nsteps: int) -> None:
+        """Step the physics ``nsteps`` times with the current commands and any active force
+        (:meth:`advance` checks the result)."""
         m, d = self.model, self.data
-        bad_before = self._bad_count()
         left = nsteps
         while left > 0:
             chunk = left
@@ -168,19 +162,3 @@ class TabletopWorld(SensingMixin, DisturbanceMixin, ArmControlMixin):
                     continue
             mujoco.mj_step(m, d, nstep=chunk)
             left -= chunk
-        bad = self._bad_count() > bad_before
-        if bad or not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
-            self._unstable = True
-            raise SimulationUnstableError(
-                f"simulation became unstable at t={d.time:.3f} s (NaN/inf or huge accelerations); "
-                "call reset() before stepping again"
-            )
-        self._obs = None
-        for callback in self.step_callbacks:
-            callback(self)
-
-    def _bad_count(self) -> int:
-        w = self.data.warning
-        return sum(int(w[k].number) for k in (mujoco.mjtWarning.mjWARN_BADQPOS,
-                                              mujoco.mjtWarning.mjWARN_BADQVEL,
-                                              mujoco.mjtWarning.mjWARN_BADQACC))

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from voxposer import tabletop
-from voxposer.envs.config import CameraConfig, ControllerConfig
+from voxposer.envs.config import CameraConfig, ControllerConfig, check_world_timing
 from voxposer.errors import ConfigError
 from voxposer.geometry.voxel_grid import VoxelGrid
 
@@ -177,8 +177,6 @@ class ArticulatedConfig:
 
     def __post_init__(self) -> None:
         _positive("ArticulatedConfig.timestep", self.timestep)
-        if self.timestep > 0.01:
-            raise ConfigError(f"ArticulatedConfig.timestep must be <= 0.01 s; got {self.timestep!r}")
         for name, limit in (("position_noise", 0.1), ("yaw_noise", math.radians(30.0)),
                             ("joint_noise", 0.3)):
             value = getattr(self, name)
@@ -186,15 +184,8 @@ class ArticulatedConfig:
             if value > limit:
                 raise ConfigError(f"ArticulatedConfig.{name} must be at most {limit:.4g}; "
                                   f"got {value!r}")
-        steps = self.controller.control_dt / self.timestep
-        if abs(steps - round(steps)) > 1e-6 or round(steps) < 1:
-            raise ConfigError(
-                f"ControllerConfig.control_dt ({self.controller.control_dt}) must be a whole "
-                f"multiple of ArticulatedConfig.timestep ({self.timestep})"
-            )
-        if any(lo >= hi for lo, hi in zip(self.table_min, self.table_max, strict=True)):
-            raise ConfigError(f"ArticulatedConfig.table_min {self.table_min} must be below "
-                              f"table_max {self.table_max}")
+        check_world_timing("ArticulatedConfig", self.timestep, self.controller, self.table_min,
+                           self.table_max)
         self.grid  # noqa: B018 - validates the workspace box (raises GridError)
 
     @property

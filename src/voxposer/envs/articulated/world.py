@@ -26,11 +26,9 @@ from voxposer.envs.articulated.scene import build_scene, geom_labels, label_name
 from voxposer.envs.cameras import CameraRenderer
 from voxposer.envs.ik import HOME_Q
 from voxposer.envs.robot_model import FINGER_OPEN
-from voxposer.errors import SimulationUnstableError
+from voxposer.envs.stepping import SteppedPhysicsMixin
+from voxposer.envs.views import CameraViewsMixin
 from voxposer.perception.observation import Observation
-
-_BAD = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
-        mujoco.mjtWarning.mjWARN_BADQACC)
 
 
 @dataclass(frozen=True)
@@ -50,7 +48,7 @@ class ArticulatedPlacement:
     arm_q: tuple[float, ...]
 
 
-class ArticulatedWorld(ArmControlMixin):
+class ArticulatedWorld(CameraViewsMixin, SteppedPhysicsMixin, ArmControlMixin):
     """The Panda and the object of ``task`` ("door", "window", "fridge") with four cameras.
 
     Call :meth:`reset` with a :class:`numpy.random.Generator` before anything else.
@@ -120,34 +118,13 @@ class ArticulatedWorld(ArmControlMixin):
         return self.placement
 
     # -------------------------------------------------------------- physics
-    def advance(self, nsteps: int) -> None:
+    def _integrate(self, nsteps: int) -> None:
         """Step the physics ``nsteps`` times with the current commands, running the object's
-        mechanism (latch, seal) before each step.
-
-        Raises:
-            SimulationUnstableError: the state became NaN/inf or MuJoCo flagged bad accelerations;
-                the world must be :meth:`reset` before it can step again.
-        """
-        if self._unstable:
-            raise SimulationUnstableError("the simulation diverged earlier; call reset() first")
+        mechanism (latch, seal) before each step (:meth:`advance` checks the result)."""
         m, d = self.model, self.data
-        bad_before = self._bad_count()
         for _ in range(nsteps):
             self.object.before_step(m, d)
             mujoco.mj_step(m, d)
-        bad = self._bad_count() > bad_before
-        if bad or not (np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel))):
-            self._unstable = True
-            raise SimulationUnstableError(
-                f"simulation became unstable at t={d.time:.3f} s (NaN/inf or huge accelerations); "
-                "call reset() before stepping again"
-            )
-        self._obs = None
-        for callback in self.step_callbacks:
-            callback(self)
-
-    def _bad_count(self) -> int:
-        return sum(int(self.data.warning[k].number) for k in _BAD)
 
     # ---------------------------------------------------------- observation
     @property
@@ -155,53 +132,11 @@ class ArticulatedWorld(ArmControlMixin):
         """Names of the scene's labelled objects (:attr:`label_names`)."""
         return self.label_names
 
-    @property
-    def camera_names(self) -> tuple[str, ...]:
-        """The cameras, e.g. ``("front_left", "front_right", "back_left", "back_right")``."""
-        return self.config.cameras.names
+    def _geom_label_ids(self) -> NDArray[np.int32]:
+        return self._geom_labels
 
-    def _camera_renderer(self) -> CameraRenderer:
-        if self._renderer is None:
-            cams = self.config.cameras
-            self._renderer = CameraRenderer(self.model, self._geom_labels, shadows=cams.shadows,
-                                            depth_max=cams.depth_max,
-                                            detailed_robot=cams.detailed_robot)
-        return self._renderer
-
-    def render(self, camera: str, width: int | None = None, height: int | None = None
-               ) -> NDArray[np.uint8]:
-        """RGB image, shape (height, width, 3), of ``camera`` (e.g. ``"front_left"``)."""
-        cams = self.config.cameras
-        frame = self._camera_renderer().render(
-            self.data, f"{camera.removesuffix('_camera')}_camera", width or cams.width,
-            height or cams.height, segmentation=False)
-        return frame.rgb
-
-    def observe(self, width: int | None = None, height: int | None = None, *,
-                rgb: bool = True) -> Observation:
-        """All camera views (RGB, depth [m], intrinsics, extrinsics, ground-truth part labels
-        indexing :attr:`label_names`) and the robot's state; cached until the state changes.
-        ``rgb=False`` skips the colour pass (images are black)."""
-        cams = self.config.cameras
-        w, h = width or cams.width, height or cams.height
-        key = (float(self.data.time), w, h, rgb)
-        if self._obs is not None and self._obs_key is not None and self._obs_key[:3] == key[:3] \
-                and (self._obs_key[3] or not rgb):
-            return self._obs
-        renderer = self._camera_renderer()
-        frames = tuple(renderer.render(self.data, f"{name}_camera", w, h, colour=rgb)
-                       for name in cams.names)
-        pos, quat = self.get_ee_pose()
-        self._obs = Observation(time=float(self.data.time), cameras=frames, ee_position=pos,
-                                ee_quat=quat, gripper=self._gripper, label_names=self.label_names)
-        self._obs_key = key
-        return self._obs
-
-    def close(self) -> None:
-        """Release the rendering context (the world stays usable; rendering reopens it)."""
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+    def _label_names(self) -> tuple[str, ...]:
+        return self.label_names
 
     # --------------------------------------------------------- ground truth
     def articulation_state(self) -> dict[str, float]:

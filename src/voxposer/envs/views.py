@@ -1,0 +1,98 @@
+"""The cameras' side of a simulated world: rendering and cached RGB-D observations.
+
+A mixin of both worlds (:class:`voxposer.envs.world.TabletopWorld` and
+:class:`voxposer.envs.articulated.world.ArticulatedWorld`): it renders the configured cameras
+with a ground-truth label channel and the robot's state into an
+:class:`~voxposer.perception.observation.Observation`, cached until the physics state changes, so
+several perception queries at one instant render the cameras once. Each world says what its
+labels are (:meth:`CameraViewsMixin._geom_label_ids`, :meth:`CameraViewsMixin._label_names`).
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from voxposer.envs.arm import ArmSettings, ArmStateMixin
+from voxposer.envs.cameras import CameraRenderer
+from voxposer.envs.config import CameraConfig
+from voxposer.perception.observation import Observation
+
+
+class _WorldSettings(ArmSettings, Protocol):
+    """What the views read of the world's configuration (the arm's settings and the cameras)."""
+
+    @property
+    def cameras(self) -> CameraConfig: ...
+
+
+class CameraViewsMixin(ArmStateMixin):
+    """Rendering and observation (needs the attributes declared below, and the two label hooks)."""
+
+    config: _WorldSettings
+    _renderer: CameraRenderer | None
+    _obs: Observation | None
+    _obs_key: tuple[float, int, int, bool] | None
+
+    def _geom_label_ids(self) -> NDArray[np.int32]:
+        """Label id of every geom, shape (ngeom,), indexing :meth:`_label_names`; -1 for none."""
+        raise NotImplementedError
+
+    def _label_names(self) -> tuple[str, ...]:
+        """Names of the label ids of the segmentation channel."""
+        raise NotImplementedError
+
+    @property
+    def camera_names(self) -> tuple[str, ...]:
+        """The cameras, e.g. ``("front_left", "front_right", "back_left", "back_right")``."""
+        return self.config.cameras.names
+
+    def _camera_renderer(self) -> CameraRenderer:
+        if self._renderer is None:
+            cams = self.config.cameras
+            self._renderer = CameraRenderer(self.model, self._geom_label_ids(),
+                                            shadows=cams.shadows, depth_max=cams.depth_max,
+                                            detailed_robot=cams.detailed_robot)
+        return self._renderer
+
+    def render(self, camera: str, width: int | None = None, height: int | None = None
+               ) -> NDArray[np.uint8]:
+        """RGB image, shape (height, width, 3), of ``camera`` (e.g. ``"front_left"``)."""
+        cams = self.config.cameras
+        frame = self._camera_renderer().render(
+            self.data, f"{camera.removesuffix('_camera')}_camera", width or cams.width,
+            height or cams.height, segmentation=False)
+        return frame.rgb
+
+    def observe(self, width: int | None = None, height: int | None = None, *,
+                rgb: bool = True) -> Observation:
+        """All camera views (RGB, depth [m], intrinsics, extrinsics, ground-truth label ids)
+        and the robot's state. Cached until the state changes.
+
+        ``rgb=False`` skips the colour pass (images are black): enough for planning and
+        detection, about half the rendering time. An RGB observation also serves
+        later ``rgb=False`` requests at the same instant.
+        """
+        cams = self.config.cameras
+        w, h = width or cams.width, height or cams.height
+        key = (float(self.data.time), w, h)
+        if self._obs is not None and self._obs_key is not None and self._obs_key[:3] == key and (
+                self._obs_key[3] or not rgb):
+            return self._obs
+        renderer = self._camera_renderer()
+        frames = tuple(renderer.render(self.data, f"{name}_camera", w, h, colour=rgb)
+                       for name in cams.names)
+        pos, quat = self.get_ee_pose()
+        self._obs = Observation(time=float(self.data.time), cameras=frames, ee_position=pos,
+                                ee_quat=quat, gripper=self._gripper,
+                                label_names=self._label_names())
+        self._obs_key = (*key, rgb)
+        return self._obs
+
+    def close(self) -> None:
+        """Release the rendering context (the world stays usable; rendering reopens it)."""
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
