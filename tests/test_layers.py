@@ -27,8 +27,9 @@ ALLOWED: dict[str, set[str]] = {
     "lmp": BASE | {"valuemaps", "perception"},
     "control": BASE | {"valuemaps", "planning", "perception"},
     "pipeline": BASE | {"valuemaps", "planning", "perception", "lmp", "control"},
+    "unet": BASE | {"valuemaps", "planning", "perception"},
     "bench": BASE | {"valuemaps", "planning", "perception", "lmp", "control", "envs", "pipeline",
-                     "voxposer"},
+                     "unet", "voxposer"},
     "learning": BASE | {"valuemaps", "planning", "perception", "lmp", "control", "pipeline"},
 }
 #: the only perception modules the simulator may import: the observation types it produces.

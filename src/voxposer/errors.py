@@ -134,6 +134,10 @@ class MoveMissedError(_PoseError):
                          "target (blocked?)")
 
 
+class NoRobotError(VoxPoserError):
+    """A motion was asked of a stand-in robot that has no arm to move (``--robot none``)."""
+
+
 class InvalidActionError(VoxPoserError, ValueError):
     """An action is NaN/inf, has the wrong shape, or lies outside its allowed range."""
 

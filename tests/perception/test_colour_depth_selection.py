@@ -14,8 +14,10 @@ from voxposer.pipeline import PERCEPTIONS, Embodiment, check_perception
 
 
 def test_cli_choices_are_the_pipelines() -> None:
-    assert PERCEPTION_CHOICES == PERCEPTIONS == ("ground-truth", "colour-depth",
-                                                 "ground-truth-noisy", "colour-depth-noisy")
+    # the CLI adds the learned open-vocabulary perceiver, built from model folders it is given
+    assert PERCEPTION_CHOICES == (*PERCEPTIONS, "open-vocab")
+    assert PERCEPTIONS == ("ground-truth", "colour-depth", "ground-truth-noisy",
+                           "colour-depth-noisy")
 
 
 def test_unknown_perception_lists_the_choices() -> None:

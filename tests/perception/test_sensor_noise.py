@@ -244,7 +244,7 @@ def test_the_cli_accepts_and_lists_every_perception_mode(capsys: pytest.CaptureF
     from voxposer.cli import build_parser
     from voxposer.cli.run import PERCEPTION_CHOICES
 
-    assert PERCEPTION_CHOICES == PERCEPTIONS
+    assert PERCEPTION_CHOICES == (*PERCEPTIONS, "open-vocab")
     parser = build_parser()
     for mode in PERCEPTIONS:
         assert parser.parse_args(["run", "push it", "--perception", mode]).perception == mode

@@ -13,6 +13,9 @@ Commands:
     learn-dynamics
                 learn a dynamics model online for the door, window and fridge, with zero-shot
                 trajectories as exploration prior or without (paper Table 3).
+    bench-data  training data of the U-Net + MP baseline (paper Table 2): observations,
+                instructions and the reference programs' cost maps on dev seeds.
+    train-unet  train the baseline's language-conditioned cost U-Net (needs the vision extra).
 
 Every command checks its arguments before it starts any work (:mod:`voxposer.cli.checks`): a
 bad value is one line naming it and what is allowed, and exit status 2.
@@ -104,10 +107,12 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=int, default=0, help="seed for the random obstacle blobs")
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
     demo.set_defaults(func=_plan_demo, check=_check_plan_demo)
-    from voxposer.cli import bench, learn_dynamics, lmp, render, run
+    from voxposer.cli import bench, bench_data, learn_dynamics, lmp, render, run, train_unet
 
     run.add_parser(sub)
     bench.add_parser(sub)
+    bench_data.add_parser(sub)
+    train_unet.add_parser(sub)
     learn_dynamics.add_parser(sub)
     lmp.add_parser(sub)
     render.add_parser(sub)

@@ -10,6 +10,8 @@ the instruction (:mod:`voxposer.cli.run_scene`); ``--drawer-open`` and ``--place
 Exit status 0 only when every sub-task reached its target and every post-condition the plan
 stated held (``intent`` in ``summary.json``, :mod:`voxposer.lmp.intent`); 2 for a bad argument (checked before
 anything runs: :func:`check_args`).
+``--frames DIR --robot none`` plans on recorded frames instead, moving no robot
+(:mod:`voxposer.cli.run_frames`).
 """
 
 from __future__ import annotations
@@ -36,12 +38,20 @@ from voxposer.cli.checks import (
     check_text,
 )
 from voxposer.cli.llm_options import add_llm_options
+from voxposer.cli.perception_options import (
+    OPEN_VOCAB,
+    add_open_vocab_options,
+    check_open_vocab_options,
+    open_vocab_from_args,
+)
+from voxposer.cli.run_frames import add_frame_options, check_frame_options, rollout_frames
 from voxposer.cli.run_scene import CLOSE_OPENING_M, SceneRequest, allowed_range, choose_scene
 from voxposer.errors import VoxPoserError
 
 #: ``--perception`` values (:data:`voxposer.pipeline.PERCEPTIONS`; kept here so the CLI's help
 #: needs no simulator import).
-PERCEPTION_CHOICES = ("ground-truth", "colour-depth", "ground-truth-noisy", "colour-depth-noisy")
+PERCEPTION_CHOICES = ("ground-truth", "colour-depth", "ground-truth-noisy", "colour-depth-noisy",
+                      OPEN_VOCAB)
 
 if TYPE_CHECKING:
     from voxposer.envs.layout import SceneLayout
@@ -69,11 +79,14 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
-    p.add_argument("--perception", choices=PERCEPTION_CHOICES, default="ground-truth",
-                   help="how objects are found: the simulator's segmentation (ground-truth) or "
-                   "RGB-D pixels only (colour-depth); -noisy: on views with a consumer RGB-D "
-                   "camera's errors (depth noise, missing depth, calibration; masks too)")
+    p.add_argument("--perception", choices=PERCEPTION_CHOICES, default=None,
+                   help="how objects are found: the simulator's segmentation (ground-truth, "
+                   "default) or RGB-D pixels only (colour-depth, default with --frames); -noisy: "
+                   "on views with a consumer RGB-D camera's errors (depth noise, missing depth, "
+                   "calibration; masks too); open-vocab: OWLv2 + SAM from --detector/--segmenter")
+    add_open_vocab_options(p)
     _add_scene_options(p)
+    add_frame_options(p)
     p.set_defaults(func=run, check=check_args)
     return p
 
@@ -92,6 +105,8 @@ def check_args(args: argparse.Namespace) -> None:
     check_out_dir(args.out)
     SceneRequest.from_options(args.drawer_open, args.place)
     check_llm_options(args, args.llm)
+    check_frame_options(args)  # --frames / --robot; sets --perception's default
+    check_open_vocab_options(args)
 
 
 def _add_scene_options(parser: argparse.ArgumentParser) -> None:
@@ -242,6 +257,8 @@ def _subtask_summary(record: Any) -> dict[str, Any]:
 def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
              summary: dict[str, Any]) -> None:
     """Build the world and the LMPs, run the instruction, fill ``summary`` as it goes."""
+    if args.frames is not None:  # recorded frames, no robot: plan only (cli/run_frames.py)
+        return rollout_frames(args, _backend(args), out, summary)
     from voxposer.control import ExecutorConfig
     from voxposer.control.disturbance_schedule import DisturbanceSchedule, Disturber
     from voxposer.control.recording import VideoRecorder
@@ -260,7 +277,9 @@ def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
     summary["model"] = backend.model
     transcript = Transcript(out / "transcript.jsonl")
     runtime, executor = voxposer_runtime(
-        Embodiment.simulated(world, args.perception), backend, rng,
+        Embodiment(world, open_vocab_from_args(world, world.grid, args))
+        if args.perception == OPEN_VOCAB else Embodiment.simulated(world, args.perception),
+        backend, rng,
         executor_config=ExecutorConfig(max_time_s=args.max_time), picture_dir=out,
         transcript=transcript)
     disturber = None
