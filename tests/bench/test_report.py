@@ -99,3 +99,26 @@ def test_table2_layout_splits_instructions_and_attributes() -> None:
     assert sc[1:4] == ["75.0% (8 ep)", "—", "—"]  # mean of 100% and 50% over two tasks
     assert re.search(r"\| push the \[obj\] to the \[pos\] \| 75\.0% \(3/4\) \| 50\.0% \(2/4\)",
                      text)
+
+
+def test_unet_mp_rows_stand_beside_the_others_with_the_papers_unet_column() -> None:
+    records = []
+    for seed in range(2):
+        records += [_rec("move_to_region", seed=seed, calls=2),
+                    _rec("move_to_region", seed=seed, llm="none", method="unet_mp",
+                         success=seed == 0),
+                    _rec("push_to_pos", seed=seed, llm="none", method="unet_mp", success=False)]
+    text = markdown(records, Tolerances())
+    header = text.split("\n## ")[0]
+    assert "**LLM calls**: 4 over 2 model episodes" in header
+    assert "**learned cost maps** (U-Net + MP, no LLM): 4 episodes" in header
+    unet = text.split("## U-Net + MP — learned cost maps (no LLM)")[1].split("\n## ")[0]
+    assert "| SA (U-Net + MP, paper) | UA (U-Net + MP, paper) |" in unet
+    assert _row(unet, "| move to the [region] |").startswith(
+        "| move to the [region] | 50.0% (1/2) | — | 5.0% | 0.0% |")
+    assert "## VoxPoser — default" in text  # beside VoxPoser's
+    table2 = text.split("### Table 2 layout: U-Net + MP — learned cost maps (no LLM)")[1]
+    table2 = table2.split("\n#")[0]
+    assert "SI SA (U-Net + MP, paper)" in _row(table2, "| Category |")
+    sc = _row(table2, "| Spatial Composition |").split(" | ")
+    assert sc[1] == "50.0% (2 ep)" and sc[-3:] == ["53.8%", "3.8%", "25.0% |"]

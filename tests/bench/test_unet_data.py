@@ -83,3 +83,18 @@ def test_test_seeds_are_refused() -> None:
         DataConfig(("move_to_region",), (100_000,))
     assert parse_seeds("dev", 3) == [0, 1, 2]
     assert parse_seeds("0,5,7-9", 4) == [0, 5, 7, 8]
+
+
+def test_samples_carry_the_scene_in_colour(tmp_path: Path) -> None:
+    """The U-Net tells the pink block from the green one by colour: the observation voxels hold
+    the views' RGB, not the black of a depth-only render."""
+    from voxposer.envs import TabletopWorld
+
+    world = TabletopWorld()
+    try:
+        sample = episode_sample(world, "move_to_region", 3)
+    finally:
+        world.close()
+    filled = sample.occupancy.astype(bool)
+    assert filled.any() and sample.colour[filled].max() > 100
+    assert len(np.unique(sample.colour[filled].reshape(-1, 3), axis=0)) > 5

@@ -78,3 +78,66 @@ def test_malformed_trajectory_is_refused() -> None:
     with pytest.raises(ConfigError, match="gripper has 3 rows"):
         ZeroShotTrajectory(t.task, t.source, 0, t.waypoints, t.quats, t.gripper[:3],
                            t.stage_of, 0.25, False, t.stages)
+
+
+def test_anchored_prior_and_cost_follow_a_displaced_object(tmp_path: Path) -> None:
+    """A reset that moves the object 3 cm: τ₀'s targets and the maps move with the observed
+    handle; a τ₀ recorded without the handle's start is not re-anchored."""
+    from dataclasses import replace
+
+    from voxposer.learning.policies import LearningPolicy, stage_orientations
+    from voxposer.planning.waypoint_mpc import WaypointMPCConfig
+
+    traj = replace(trajectory(), handle_start=HANDLE.copy())
+    assert ZeroShotTrajectory.load(traj.save(tmp_path)).handle_start == pytest.approx(HANDLE)
+    mpc = WaypointMPCConfig((-0.03,) * 3 + (0.0,), (0.03,) * 3 + (1.0,), n_samples=4, horizon=3)
+    shift = np.array([0.03, -0.02, 0.0])
+    o0 = _obs(traj.waypoints[0] + shift, HANDLE + shift)
+    for prior in (traj, None):
+        cost = TaskCost(traj.stages, LAYOUTS["door"])
+        policy = LearningPolicy(cost, mpc, prior, stage_orientations(traj),
+                                anchor_handle=traj.handle_start)
+        policy.act(o0, 0, 0, np.random.default_rng(0))
+        np.testing.assert_allclose(cost.shift, shift)
+        # the reach stage is done where the displaced handle is, not where τ₀ saw it
+        assert cost.remaining(_obs(HANDLE + shift, HANDLE + shift), 0) < 0.02  # 2 cm voxels
+        assert cost.remaining(_obs(HANDLE, HANDLE + shift), 0) > 0.03
+    _, targets = policy_with_prior(traj, mpc, o0)
+    np.testing.assert_allclose(targets[0], traj.waypoints[1] + shift)
+    plain = TaskCost(traj.stages, LAYOUTS["door"])
+    LearningPolicy(plain, mpc, trajectory(), stage_orientations(traj)).act(
+        o0, 0, 0, np.random.default_rng(0))
+    np.testing.assert_array_equal(plain.shift, np.zeros(3))
+
+
+def policy_with_prior(traj: ZeroShotTrajectory, mpc: object, o0: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    from voxposer.learning.policies import LearningPolicy, stage_orientations
+
+    policy = LearningPolicy(TaskCost(traj.stages, LAYOUTS["door"]), mpc,  # type: ignore[arg-type]
+                            traj, stage_orientations(traj))
+    policy.anchor(o0)
+    return policy.prior_window(o0, 0)
+
+
+def test_with_a_prior_the_hand_holds_tau0s_own_orientation() -> None:
+    from dataclasses import replace
+
+    from scipy.spatial.transform import Rotation
+
+    from voxposer.learning.policies import LearningPolicy, stage_orientations
+    from voxposer.planning.waypoint_mpc import WaypointMPCConfig
+
+    base = trajectory()
+    turning = Rotation.from_euler("z", np.linspace(0, 40, len(base.waypoints))[:, None], degrees=True)
+    traj = replace(base, quats=turning.as_quat())
+    mpc = WaypointMPCConfig((-0.03,) * 3 + (0.0,), (0.03,) * 3 + (1.0,), n_samples=4, horizon=3)
+    with_prior = LearningPolicy(TaskCost(traj.stages, LAYOUTS["door"]), mpc, traj,
+                                stage_orientations(traj))
+    without = LearningPolicy(TaskCost(traj.stages, LAYOUTS["door"]), mpc, None,
+                             stage_orientations(traj))
+    for step in (0, 5, 12):
+        np.testing.assert_allclose(with_prior.orientation(step, 1), traj.quats[step + 1])
+    # without a prior: the orientation at the end of the stage, whatever the step
+    np.testing.assert_allclose(without.orientation(0, 1), traj.quats[-1])
+    np.testing.assert_allclose(without.orientation(12, 1), traj.quats[-1])

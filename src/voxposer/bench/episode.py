@@ -19,7 +19,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.disturb import EpisodeDisturbance
-from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
+from voxposer.bench.methods import BACKENDLESS_LLMS, REFERENCE_BLIND, get_method
 from voxposer.bench.paraphrases import paraphrase
 from voxposer.bench.protocol import ADHOC
 from voxposer.bench.suites import TASKS_SUITE, suite_task
@@ -39,7 +39,7 @@ class EpisodeJob:
 
     Attributes:
         task, split, seed: the episode.
-        method: "voxposer" or "llm_primitives".
+        method: "voxposer", "llm_primitives" or "unet_mp".
         llm: "reference" (hand-written programs), "reference-blind" (their constraint-blind
             control) or a backend kind of ``LLMConfig``.
         max_time_s: simulated time limit of each ``execute`` call [s].
@@ -51,6 +51,7 @@ class EpisodeJob:
         out_dir: the output folder (videos go to its ``videos/``); None without videos.
         suite: the instruction suite ``task`` comes from ("tasks" or "multistep":
             :mod:`voxposer.bench.suites`).
+        unet_checkpoint: the U-Net checkpoint's path (method "unet_mp"), else None.
     """
 
     task: str
@@ -65,6 +66,7 @@ class EpisodeJob:
     video: str = "none"
     out_dir: str | None = None
     suite: str = TASKS_SUITE
+    unet_checkpoint: str | None = None
 
     @property
     def key(self) -> tuple[str, str, str, str, str, int, bool]:
@@ -121,6 +123,8 @@ class EpisodeRecord:
     intent_verdict: bool | None = None
     #: the instruction suite of ``task`` (:mod:`voxposer.bench.suites`)
     suite: str = TASKS_SUITE
+    #: the trained model the method ran (unet_mp: its checkpoint's {"path", "sha256"} prefix)
+    unet_checkpoint: dict[str, str] | None = None
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-serialisable dict."""
@@ -206,7 +210,11 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
                 job.seed))
         rec.instruction, rec.attributes = setup.instruction, dict(setup.attributes)
         t1 = time.perf_counter()
-        if job.llm in REFERENCE_LLMS:
+        if job.unet_checkpoint is not None:
+            from voxposer.bench.unet_method import checkpoint_identity
+
+            rec.unet_checkpoint = checkpoint_identity(job.unet_checkpoint)
+        if job.llm in BACKENDLESS_LLMS:
             backend = method.reference_backend(task, setup.attributes,
                                                blind=job.llm == REFERENCE_BLIND)
         if backend is None:
@@ -220,7 +228,8 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         with TraceRecorder(world, task.tracked(setup.attributes)) as recorder:
             try:
                 method.run(world, counting, setup, job.max_time_s, job.instructions,
-                           make_disturber=disturbance, intents=rec.intent)
+                           make_disturber=disturbance, intents=rec.intent,
+                           checkpoint=job.unet_checkpoint)
             except VoxPoserError as err:
                 rec.program_error = f"{type(err).__name__}: {err}"
                 failure = err

@@ -1,4 +1,5 @@
-"""The methods a benchmark compares: VoxPoser and the "LLM + Primitives" baseline (App. A.4).
+"""The methods a benchmark compares: VoxPoser, the "LLM + Primitives" baseline (App. A.4) and
+the "U-Net + MP" baseline (:mod:`voxposer.bench.unet_method`; no LLM, a trained checkpoint).
 
 A :class:`Method` runs an instruction in a world with a backend, and knows how to build the
 replay backend of a task's reference programs (and of their constraint-blind control).
@@ -15,6 +16,7 @@ import numpy as np
 
 from voxposer.bench.intent_reference import with_expectation
 from voxposer.bench.task import BenchTask, EpisodeSetup
+from voxposer.bench.unet_method import NO_LLM, UNET_MP
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import LLMBackend
 from voxposer.lmp.backends.replay import ReplayBackend
@@ -31,6 +33,8 @@ REFERENCE: Final = "reference"
 REFERENCE_BLIND: Final = "reference-blind"
 #: the ``--llm`` values served by replayed hand-written programs rather than a model.
 REFERENCE_LLMS: Final = (REFERENCE, REFERENCE_BLIND)
+#: the ``llm`` values whose episodes need no LLM backend.
+BACKENDLESS_LLMS: Final = (*REFERENCE_LLMS, NO_LLM)
 
 
 @dataclass(frozen=True)
@@ -38,7 +42,7 @@ class Method:
     """A method under evaluation.
 
     Attributes:
-        name: "voxposer" or "llm_primitives".
+        name: "voxposer", "llm_primitives" or "unet_mp".
         label: how reports name it.
         paper_column: the column of the paper's Table 4 it corresponds to.
     """
@@ -49,7 +53,7 @@ class Method:
 
     def run(self, world: Any, backend: LLMBackend, setup: EpisodeSetup, max_time_s: float,
             instructions: str = "seen", make_disturber: DisturberFactory | None = None,
-            intents: list[dict[str, Any]] | None = None) -> None:
+            intents: list[dict[str, Any]] | None = None, checkpoint: str | None = None) -> None:
         """Carry out ``setup.instruction`` (raises VoxPoserError when the method fails).
 
         Args:
@@ -63,6 +67,7 @@ class Method:
                 (:mod:`voxposer.control.disturbance_schedule`).
             intents: receives the post-conditions VoxPoser's plan stated, evaluated
                 (:class:`voxposer.lmp.intent.IntentResult` as dicts), also when the run fails.
+            checkpoint: the trained model's path (unet_mp: its U-Net checkpoint).
         """
         from voxposer.control import ExecutorConfig
         from voxposer.lmp.registry import LMPConfig
@@ -75,6 +80,12 @@ class Method:
             disturb_rng, exec_config.reach_tolerance_m)
         from voxposer.pipeline import Embodiment, voxposer_runtime
 
+        if self.name == UNET_MP:
+            from voxposer.bench.unet_method import run_unet_mp
+
+            run_unet_mp(world, setup, checkpoint, exec_config, rng,
+                        None if disturber is None else disturber.on_replan)
+            return
         body = Embodiment.simulated(world)
         if self.name == "voxposer":
             runtime, _ = voxposer_runtime(
@@ -100,6 +111,8 @@ class Method:
                           blind: bool = False) -> LLMBackend:
         """A replay backend serving the task's reference programs for ``attrs`` (with
         ``blind``, its constraint-blind control: the reference minus the constraint's map)."""
+        if self.name == UNET_MP:  # answers nothing: the method calls no LLM
+            return ReplayBackend([], model="no LLM")
         if blind:
             if self.name != "voxposer":
                 raise ConfigError(f"constraint-blind controls exist for voxposer only, not "
@@ -125,6 +138,7 @@ METHODS: Final[dict[str, Method]] = {
     for m in (
         Method("voxposer", "VoxPoser", "VoxPoser"),
         Method("llm_primitives", "LLM + Primitives", "LLM + Prim."),
+        Method(UNET_MP, "U-Net + MP", "U-Net + MP"),
     )
 }
 

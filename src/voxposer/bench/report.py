@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from voxposer.bench.config import Tolerances
-from voxposer.bench.methods import REFERENCE, REFERENCE_BLIND, REFERENCE_LLMS, get_method
+from voxposer.bench.methods import NO_LLM, REFERENCE, REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.paper import TABLE2, paper_category_means, paper_rate
 from voxposer.bench.protocol import INSTRUCTION_LABELS
 from voxposer.bench.report_disturbed import disturbed_lines
@@ -49,9 +49,10 @@ class Cell:
         return f"{self.rate:.1f}% ({self.ok}/{self.n}{err})"
 
 
-#: how reports name the groups of replayed hand-written programs.
+#: how reports name the groups of replayed hand-written programs, and of no LLM at all.
 REFERENCE_LABELS = {REFERENCE: "reference programs (no LLM)",
-                    REFERENCE_BLIND: "reference programs, constraint-blind control (no LLM)"}
+                    REFERENCE_BLIND: "reference programs, constraint-blind control (no LLM)",
+                    NO_LLM: "learned cost maps (no LLM)"}
 
 
 def group_label(method: str, llm: str, instructions: str = "seen") -> str:

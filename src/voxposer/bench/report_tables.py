@@ -13,7 +13,7 @@ from collections import defaultdict
 from collections.abc import Mapping
 from typing import Any, Final
 
-from voxposer.bench.methods import REFERENCE, REFERENCE_BLIND, REFERENCE_LLMS
+from voxposer.bench.methods import NO_LLM, REFERENCE, REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.paper import TABLE2
 from voxposer.bench.protocol import ADHOC, INSTRUCTION_LABELS, SEED_SETS
 from voxposer.bench.results import code_versions
@@ -69,8 +69,9 @@ def _set_range(name: str) -> str:
 
 def _call_totals(records: list[dict[str, Any]]) -> str:
     """One sentence: LLM calls and cached calls of model episodes, replays of reference ones."""
-    model = [r for r in records if r["llm"] not in REFERENCE_LLMS]
+    model = [r for r in records if r["llm"] not in (*REFERENCE_LLMS, NO_LLM)]
     replay = [r for r in records if r["llm"] in REFERENCE_LLMS]
+    learned = [r for r in records if r["llm"] == NO_LLM]
     calls = sum(int(r.get("llm_calls", 0)) for r in model)
     cached = sum(int(r.get("llm_cached_calls", 0)) for r in model)
     parts = []
@@ -81,6 +82,8 @@ def _call_totals(records: list[dict[str, Any]]) -> str:
         replays = sum(int(r.get("llm_calls", 0)) for r in replay)
         parts.append(f"**reference-program replays** (no LLM): {replays} over {len(replay)} "
                      "episodes")
+    if learned:
+        parts.append(f"**learned cost maps** (U-Net + MP, no LLM): {len(learned)} episodes")
     return ("; ".join(parts) or "No episodes") + "."
 
 
@@ -132,20 +135,23 @@ def _category_rate(cells: Mapping[tuple[str, str], Any], category: str,
 
 def table2_lines(cells: Cells, method: str, llm: str, label: str) -> list[str]:
     """Table 2's layout for one (method, llm): ours (mean of per-task success [%] over the
-    category, episodes in brackets) beside the paper's VoxPoser and LLM + Prim."""
+    category, episodes in brackets) beside the paper's VoxPoser and LLM + Prim. (and the
+    method's own column when it is another: U-Net + MP)."""
+    own = get_method(method).paper_column
+    columns = PAPER_COLUMNS if own in PAPER_COLUMNS else (*PAPER_COLUMNS, own)
     head = " | ".join(f"{c} (ours)" for c in TABLE2_COLUMNS)
-    paper = " | ".join(f"{c} ({col}, paper)" for col in PAPER_COLUMNS for c in TABLE2_COLUMNS)
+    paper = " | ".join(f"{c} ({col}, paper)" for col in columns for c in TABLE2_COLUMNS)
     lines = [f"### Table 2 layout: {label}", "",
              "SI/UI: seen/unseen instructions (unseen: the task's few-shot examples held out of "
              "every prompt); SA/UA: seen/unseen attributes.", "",
              f"| Category | {head} | {paper} |",
-             "|---|" + "---|" * (len(TABLE2_COLUMNS) * (1 + len(PAPER_COLUMNS)))]
+             "|---|" + "---|" * (len(TABLE2_COLUMNS) * (1 + len(columns)))]
     for category in CATEGORIES:
         ours = []
         for instructions, split in TABLE2_COLUMNS.values():
             rate, n = _category_rate(cells.get((method, llm, instructions), {}), category, split)
             ours.append("—" if rate is None else f"{rate:.1f}% ({n} ep)")
-        theirs = [_pct(TABLE2[col].get((c, category))) for col in PAPER_COLUMNS
+        theirs = [_pct(TABLE2[col].get((c, category))) for col in columns
                   for c in TABLE2_COLUMNS]
         lines.append(f"| {category} | " + " | ".join(ours + theirs) + " |")
     return [*lines, ""]

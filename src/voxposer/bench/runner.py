@@ -25,7 +25,7 @@ from typing import Any, Literal
 
 from voxposer.bench.attributes import SPLITS, check_split
 from voxposer.bench.episode import EpisodeJob
-from voxposer.bench.methods import REFERENCE_BLIND, REFERENCE_LLMS, get_method
+from voxposer.bench.methods import NO_LLM, REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.protocol import ADHOC, DEV_SEEDS, TEST_SEEDS, check_instructions, get_seed_set
 from voxposer.bench.ray_pool import run_ray
 from voxposer.bench.results import (
@@ -43,6 +43,7 @@ from voxposer.bench.suites import (
     suite_task,
 )
 from voxposer.bench.tasks import TASKS, get_task
+from voxposer.bench.unet_method import check_unet_options
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import check_video_mode
 from voxposer.bench.workers import run_local
@@ -51,7 +52,7 @@ from voxposer.pipeline import check_perception
 
 log = logging.getLogger(__name__)
 
-LLM_CHOICES = ("reference", REFERENCE_BLIND, "default", "llama_cpp", "openai", "replay")
+LLM_CHOICES = ("reference", REFERENCE_BLIND, "default", "llama_cpp", "openai", "replay", NO_LLM)
 #: the response-cache folder of a ``fresh_cache`` run, inside the output folder.
 FRESH_CACHE_DIR = "cache"
 
@@ -67,10 +68,10 @@ class BenchConfig:
         seeds: seed set, "dev" or "test" (the first ``episodes`` seeds of the set); None with
             ``seed`` given: ad-hoc; None without: "dev".
         seed: first seed of an ad-hoc run (seeds ``seed`` … ``seed + episodes − 1``), or None.
-        method: "voxposer" or "llm_primitives".
+        method: "voxposer", "llm_primitives" or "unet_mp".
         llm: "reference" (hand-written programs, labelled so), "reference-blind" (their
-            constraint-blind control; tasks without a constraint are skipped) or an LLM
-            backend kind.
+            constraint-blind control; tasks without a constraint are skipped), an LLM
+            backend kind, or "none" (unet_mp's only one: it runs no LLM).
         instructions: "seen", or "unseen" (each task's few-shot examples held out; LLMs only).
         workers: parallel worker processes (default: the machine's cores).
         pool: where the worker processes run: "local" (a process pool) or "ray" (actors on a
@@ -91,6 +92,8 @@ class BenchConfig:
         perception: how the simulated robot finds objects, one of
             :data:`voxposer.pipeline.PERCEPTIONS` ("ground-truth" segmentation, or
             "colour-depth": RGB-D pixels only); every record carries it.
+        unet_checkpoint: the U-Net checkpoint of method "unet_mp" (required there, refused
+            elsewhere: :func:`voxposer.bench.unet_method.check_unet_options`).
     """
 
     tasks: tuple[str, ...] = tuple(TASKS)
@@ -112,6 +115,7 @@ class BenchConfig:
     out_dir: Path | None = None
     suite: str = TASKS_SUITE
     perception: str = "ground-truth"
+    unet_checkpoint: Path | None = None
 
     def __post_init__(self) -> None:
         check_suite(self.suite)
@@ -124,6 +128,8 @@ class BenchConfig:
         get_method(self.method)
         if self.llm not in LLM_CHOICES:
             raise ConfigError(f"unknown llm {self.llm!r}; choose one of: {', '.join(LLM_CHOICES)}")
+        check_unet_options(self.method, self.llm, self.unet_checkpoint, suite=self.suite,
+                           instructions=self.instructions)
         if not isinstance(self.episodes, int) or self.episodes < 1:
             raise ConfigError(f"BenchConfig.episodes must be an int >= 1; got {self.episodes!r}")
         if not isinstance(self.workers, int) or self.workers < 1:
@@ -214,7 +220,8 @@ class BenchConfig:
         out = None if self.out_dir is None else str(self.out_dir)
         return [EpisodeJob(t, s, seed, self.method, self.llm, self.max_time_s,
                            self.instructions, self.seed_set, self.disturb, self.video, out,
-                           suite=self.suite)
+                           suite=self.suite, unet_checkpoint=None if self.unet_checkpoint
+                           is None else str(self.unet_checkpoint))
                 for seed in self.seed_list() for t in tasks for s in self.splits]
 
 

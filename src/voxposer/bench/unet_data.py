@@ -26,6 +26,7 @@ import numpy as np
 
 from voxposer.bench.protocol import DEV_SEEDS
 from voxposer.errors import ConfigError, VoxPoserError
+from voxposer.perception.pixel_labels import colour_cloud
 from voxposer.unet.dataset import (
     MANIFEST,
     Sample,
@@ -92,7 +93,7 @@ def episode_sample(world: Any, task_name: str, seed: int) -> Sample:
     if captured is None:
         raise VoxPoserError(f"{task_name} seed {seed}: the programs ended without planning")
     cmap = captured.plan.cost_map
-    cloud = body.perceiver.point_cloud()
+    cloud = colour_cloud(world.observe(rgb=True), body.perceiver.grid)  # the views, in colour
     obs = voxelise(cloud.points, cloud.colors, cmap.grid)
     return Sample(task_name, seed, setup.instruction, captured.subtask, captured.entity,
                   obs.occupancy, obs.colour,

@@ -32,7 +32,7 @@ from typing import Any, Protocol
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.episode import EpisodeJob, EpisodeRecord, run_episode
-from voxposer.bench.methods import REFERENCE_LLMS
+from voxposer.bench.methods import BACKENDLESS_LLMS
 from voxposer.errors import VoxPoserError, WorkerCrashedError
 from voxposer.lmp.backends.config import LLMConfig
 
@@ -89,7 +89,7 @@ class EpisodeWorker:
         self.perception = perception
         self.world = TabletopWorld()
         self.backend = None
-        if llm not in REFERENCE_LLMS:
+        if llm not in BACKENDLESS_LLMS:
             from voxposer.lmp.backends import make_backend
 
             self.backend = make_backend(worker_llm_config(llm, overrides))

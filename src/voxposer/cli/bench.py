@@ -49,7 +49,14 @@ from rich.progress import (
 )
 
 from voxposer.bench.attributes import SPLITS
-from voxposer.bench.methods import METHODS, REFERENCE_BLIND, REFERENCE_LLMS
+from voxposer.bench.methods import (
+    BACKENDLESS_LLMS,
+    METHODS,
+    NO_LLM,
+    REFERENCE_BLIND,
+    REFERENCE_LLMS,
+    UNET_MP,
+)
 from voxposer.bench.multistep import ENTRIES
 from voxposer.bench.outputs import write_outputs
 from voxposer.bench.protocol import INSTRUCTION_SPLITS, SEED_SETS
@@ -98,9 +105,13 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    "reworded instructions, dev phrasings on dev seeds and test phrasings on test "
                    "seeds; LLMs only)")
     p.add_argument("--method", default="voxposer", help=f"one of: {', '.join(METHODS)}")
-    add_llm_options(p, extra_choices=REFERENCE_LLMS, default="default", record=False,
+    p.add_argument("--unet-checkpoint", type=Path, default=None,
+                   help=f"the U-Net of --method {UNET_MP} (model.pt of voxposer train-unet; "
+                   "required there, refused with other methods)")
+    add_llm_options(p, extra_choices=REFERENCE_LLMS, default=None, record=False,
                     extra_help="; 'reference' = hand-written reference programs (no LLM); "
-                    "'reference-blind' = the same minus the constraint's map (control)")
+                    "'reference-blind' = the same minus the constraint's map (control); "
+                    f"none with --method {UNET_MP}")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: cores)")
     p.add_argument("--pool", choices=("local", "ray"), default="local",
                    help="local process pool, or a Ray cluster (pip install 'voxposer[ray]')")
@@ -155,7 +166,7 @@ def check_args(args: argparse.Namespace) -> None:
         raise ConfigError(f"--ray-address {args.ray_address!r} is for --pool ray; got --pool "
                           f"{args.pool}")
     cfg = _config(args)
-    if cfg.llm not in REFERENCE_LLMS:
+    if cfg.llm not in BACKENDLESS_LLMS:
         check_llm_options(args, cfg.llm)
 
 
@@ -182,7 +193,9 @@ def _config(args: argparse.Namespace) -> BenchConfig:
         kwargs["workers"] = args.workers
     return BenchConfig(tasks=tasks, splits=_names(args.splits, "--splits", SPLITS),
                        episodes=args.episodes, seeds=args.seeds, seed=args.seed,
-                       method=args.method, llm=args.llm, instructions=args.instructions,
+                       method=args.method, instructions=args.instructions,
+                       llm=args.llm or (NO_LLM if args.method == UNET_MP else "default"),
+                       unet_checkpoint=getattr(args, "unet_checkpoint", None),
                        pool=args.pool, ray_address=args.ray_address,
                        max_time_s=args.max_time, llm_overrides=overrides,
                        fresh_cache=args.fresh_cache, video=args.video, disturb=args.disturb,

@@ -137,7 +137,8 @@ class _Run:
         self.world.reset(rng)
         cost = TaskCost(traj.stages, self.observer.layout, self.config.cost)
         policy = LearningPolicy(cost, self.config.mpc(), traj if self.spec.prior else None,
-                                stage_orientations(traj), self.model)
+                                stage_orientations(traj), self.model,
+                                anchor_handle=traj.handle_start)
         steps = min(self.config.rollout.max_steps, len(traj.waypoints) + self.config.extra_steps)
         rollout = replace(self.config.rollout, max_steps=steps)
         return run_episode(self.world, self.observer, policy, cost, rollout, rng)

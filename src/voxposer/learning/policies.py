@@ -3,8 +3,8 @@
 
 Before the first model is trained there is nothing to roll out: the "with prior" policy then
 follows τ₀ with noise ε ~ N(0, σ²) on each waypoint, the "without prior" one acts uniformly at
-random. The end-effector's orientation is the zero-shot run's for the current stage (its
-rotation map), in both cases.
+random. The end-effector's orientation is τ₀'s at the waypoint an action heads for (with
+prior), or the zero-shot run's at the end of the current stage (without).
 """
 
 from __future__ import annotations
@@ -41,12 +41,16 @@ class LearningPolicy:
         prior: the zero-shot trajectory to sample around, or None (uniform sampling).
         orientations: per stage, the end-effector orientation (x, y, z, w), shape (S, 4).
         model: the current dynamics model, or None before the first training.
+        anchor_handle: where the zero-shot run observed the handle [m], shape (3,), when there
+            is no prior (with one: its ``handle_start``); None: no re-anchoring.
     """
 
     def __init__(self, cost: TaskCost, mpc: WaypointMPCConfig,
                  prior: ZeroShotTrajectory | None, orientations: NDArray[np.float64],
-                 model: StateDynamicsModel | None = None) -> None:
+                 model: StateDynamicsModel | None = None,
+                 anchor_handle: NDArray[np.float64] | None = None) -> None:
         self.cost = cost
+        self.anchor_handle = anchor_handle if prior is None else prior.handle_start
         self.mpc = mpc
         self.prior = prior
         self.orientations = orientations
@@ -58,7 +62,7 @@ class LearningPolicy:
         shape (H, 3)): toward τ₀'s next waypoints from where the end effector is now."""
         if self.prior is None:
             raise ConfigError("a prior window needs a zero-shot trajectory (prior on)")
-        w, g = self.prior.waypoints, self.prior.gripper
+        w, g = self.prior.waypoints + self.cost.shift, self.prior.gripper
         h = self.mpc.horizon
         idx = np.minimum(np.arange(step + 1, step + 1 + h), len(w) - 1)
         targets = w[idx]
@@ -72,11 +76,31 @@ class LearningPolicy:
             return 0
         return int(self.prior.stage_of[min(step, len(self.prior.stage_of) - 1)])
 
+    def anchor(self, obs: NDArray[np.float64]) -> None:
+        """Anchor τ₀ and the task cost to this episode's object: shift them by how far the
+        handle observed in ``obs`` (o_0, shape (D_o,)) sits from where the zero-shot run saw it
+        (a reset moves the object by up to a few cm). Nothing moves for a τ₀ recorded without
+        its handle's start."""
+        start = self.anchor_handle
+        handle = obs[self.cost.layout.entity_slice(self.cost.layout.parts.handle)]
+        self.cost.shift = np.zeros(3) if start is None else np.asarray(handle - start)
+
+    def orientation(self, step: int, stage: int) -> NDArray[np.float64]:
+        """The end-effector orientation (x, y, z, w) to hold during action ``step``: with a prior,
+        τ₀'s own at the waypoint the action heads for (τ₀ is a 6-DoF trajectory: the hand turns
+        with a hinged part as its rotation map is replanned); without, the zero-shot run's at
+        the end of ``stage``."""
+        if self.prior is not None:
+            return np.asarray(self.prior.quats[min(step + 1, len(self.prior.quats) - 1)])
+        return np.asarray(self.orientations[min(stage, len(self.orientations) - 1)])
+
     def act(self, obs: NDArray[np.float64], step: int, stage: int,
             rng: np.random.Generator) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(a_t, shape (4,), the orientation to hold), see :class:`~voxposer.learning.rollout.
         Policy`."""
-        quat = self.orientations[min(stage, len(self.orientations) - 1)]
+        if step == 0:
+            self.anchor(obs)
+        quat = self.orientation(step, stage)
         prior, targets = (self.prior_window(obs, step) if self.prior is not None
                           else (None, None))
         if self.model is None:

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from voxposer.control.config import ExecutorConfig
 from voxposer.errors import ConfigError, VoxPoserError
+from voxposer.learning.state import StateObserver, layout_for
 from voxposer.learning.zero_shot import Stage, ZeroShotTrajectory
 from voxposer.lmp.backends.base import LLMBackend
 from voxposer.pipeline import Embodiment, voxposer_runtime
@@ -117,6 +118,9 @@ def record_zero_shot(world: Any, backend: LLMBackend, instruction: str, *, task:
     rng = np.random.default_rng(seed)
     world.reset(rng)
     body = Embodiment.simulated(world, "ground-truth")
+    start = StateObserver(layout_for(task), world, body.perceiver)
+    start.reset()
+    handle_start = start.observe()[4:7]  # where τ₀ and its maps are anchored (perceived, as o_0)
     runtime, handoff = voxposer_runtime(body, backend, rng,
                                         executor_config=executor or ZERO_SHOT_EXECUTOR)
     handoff.keep_going = True  # τ₀ is the whole program, as the paper's open-loop chain
@@ -144,7 +148,7 @@ def record_zero_shot(world: Any, backend: LLMBackend, instruction: str, *, task:
         task=task, source=source, seed=seed,
         waypoints=np.array([r[0] for r in rows]), quats=np.array([r[1] for r in rows]),
         gripper=np.array([r[2] for r in rows]), stage_of=stage_of,
-        period_s=period_s, success=bool(success), stages=stages)
+        period_s=period_s, success=bool(success), stages=stages, handle_start=handle_start)
 
 
 __all__ = ["ZERO_SHOT_EXECUTOR", "record_zero_shot", "resample"]

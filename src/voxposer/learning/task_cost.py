@@ -59,10 +59,14 @@ class TaskCost:
         self.stages = stages
         self.layout = layout
         self.config = config or TaskCostConfig()
+        #: how far [m], shape (3,), this episode's object sits from where the zero-shot run saw
+        #: it (the handle's observed displacement); the maps are read that much shifted
+        self.shift = np.zeros(3)
 
     def entity_positions(self, obs: NDArray[np.float64], stage: int) -> NDArray[np.float64]:
-        """The stage's entity positions [m] in observations ``obs``, shape (..., D_o) → (..., 3)."""
-        return obs[..., self.layout.entity_slice(self.stages[stage].entity)]
+        """The stage's entity positions [m] in observations ``obs``, shape (..., D_o) → (..., 3),
+        in the zero-shot run's frame (less :attr:`shift`)."""
+        return obs[..., self.layout.entity_slice(self.stages[stage].entity)] - self.shift
 
     def advance(self, obs: NDArray[np.float64], stage: int) -> int:
         """The stage after observing ``obs`` (shape (D_o,)) while in ``stage``."""
@@ -86,13 +90,14 @@ class TaskCost:
             predicted: predicted observations, shape (N, H, D_o).
             actions: the sampled actions, shape (N, H, D_a) (unused but for the prior term).
             stage: the current stage.
-            prior_targets: the prior's end-effector targets [m], shape (H, 3), if any.
+            prior_targets: the prior's end-effector targets [m], shape (H, 3), if any (world
+                frame: already shifted to this episode's object).
         """
         cost, _ = self.stages[stage].lookup(self.entity_positions(predicted, stage))
         cost = cost.astype(np.float64)  # (N, H)
         total = cost.mean(axis=1) + (self.config.final_weight - 1.0) * cost[:, -1]
         if prior_targets is not None and self.config.prior_weight > 0:
-            ee = predicted[..., self.layout.entity_slice("gripper")]
+            ee = predicted[..., self.layout.entity_slice("gripper")]  # world frame, as the targets
             gap = ((ee - prior_targets[None]) ** 2).sum(axis=2).mean(axis=1)
             total = total + self.config.prior_weight * gap
         return np.asarray(total, dtype=np.float64)

@@ -73,6 +73,9 @@ class ZeroShotTrajectory:
         period_s: simulated time between waypoints [s].
         success: whether the zero-shot run opened the object (the task's own check).
         stages: the executed sub-tasks with their cost maps.
+        handle_start: the handle's position [m], shape (3,), as observed at the run's start
+            (perception, as in o_0); the waypoints and cost maps are anchored to it. None for
+            trajectories recorded without it (then nothing is re-anchored).
     """
 
     task: str
@@ -85,6 +88,7 @@ class ZeroShotTrajectory:
     period_s: float
     success: bool
     stages: tuple[Stage, ...]
+    handle_start: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         t = len(self.waypoints)
@@ -115,6 +119,8 @@ class ZeroShotTrajectory:
         path = folder / self.filename()
         meta = {"task": self.task, "source": self.source, "seed": self.seed,
                 "period_s": self.period_s, "success": self.success,
+                "handle_start": (None if self.handle_start is None
+                                 else [float(v) for v in self.handle_start]),
                 "stages": [{"subtask": s.subtask, "entity": s.entity, "gripper": s.gripper,
                             "reached": s.reached, "grid_min": s.grid.bounds_min.tolist(),
                             "grid_max": s.grid.bounds_max.tolist(),
@@ -145,7 +151,9 @@ class ZeroShotTrajectory:
                        waypoints=data["waypoints"], quats=data["quats"],
                        gripper=data["gripper"], stage_of=data["stage_of"].astype(np.int64),
                        period_s=float(meta["period_s"]), success=bool(meta["success"]),
-                       stages=stages)
+                       stages=stages,
+                       handle_start=(None if meta.get("handle_start") is None
+                                     else np.array(meta["handle_start"], dtype=np.float64)))
 
 
 def load_trajectories(folder: Path, task: str) -> list[ZeroShotTrajectory]:

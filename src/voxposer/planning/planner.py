@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from voxposer.errors import StartBlockedError, TargetUnreachableError
+from voxposer.errors import ConfigError, StartBlockedError, TargetUnreachableError
 from voxposer.geometry.frames import TOP_DOWN_QUAT
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.planning.planner_config import PlanMethod, PlannerConfig
@@ -101,32 +101,67 @@ class PathPlanner:
             cost_cfg = replace(
                 cost_cfg, downsample=1, gaussian_truncate=4.0, obstacles_as_avoidance=True
             )
-        cmap, (path, path_cost, reached), t1 = self._compose_and_search(
+        cmap, search, t1 = self._compose_and_search(
             affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg, layer_z)
+        return self._finish(cmap, search, (t0, t1), rotation_map, velocity_map, gripper_map,
+                            current_quat, current_gripper)
+
+    def plan_on_cost(
+        self,
+        cost_map: CostMap,
+        *,
+        rotation_map: NDArray | None = None,
+        velocity_map: NDArray | None = None,
+        gripper_map: NDArray | None = None,
+        current_quat: ArrayLike = TOP_DOWN_QUAT,
+        current_gripper: float = 0.0,
+    ) -> Plan:
+        """Plan on a cost map made elsewhere (a learned one: the U-Net + MP baseline) instead of
+        one composed from value maps; the search starts at ``cost_map.start`` [m], shape (3,)
+        (its obstacles were cleared around it), and the trajectory is made as by :meth:`plan`.
+
+        Args:
+            cost_map: on ``self.grid`` coarsened (``cost_map.fine_grid`` must be ``self.grid``).
+            rotation_map, velocity_map, gripper_map, current_quat, current_gripper: as
+                :meth:`plan`.
+
+        Raises:
+            ConfigError: ``cost_map`` was made on another workspace grid (names both shapes).
+            StartBlockedError, TargetUnreachableError: as :meth:`plan` (global method).
+        """
+        if cost_map.fine_grid != self.grid:
+            raise ConfigError(f"the cost map was made on a workspace grid of shape "
+                              f"{cost_map.fine_grid.shape}, but this planner plans on "
+                              f"{self.grid.shape}")
+        t0 = time.perf_counter()
+        return self._finish(cost_map, self._find_path(cost_map), (t0, t0), rotation_map,
+                            velocity_map, gripper_map, current_quat, current_gripper)
+
+    def _finish(
+        self, cmap: CostMap, search: tuple[NDArray[np.int64], float, bool],
+        clock: tuple[float, float], rotation_map: NDArray | None, velocity_map: NDArray | None,
+        gripper_map: NDArray | None, current_quat: ArrayLike, current_gripper: float,
+    ) -> Plan:
+        """The plan of a searched ``cmap``: waypoints, the maps read along them, and a straight
+        final approach when the path ends closing the gripper; ``clock`` holds the start and
+        the end of cost-map composition (``time.perf_counter`` [s])."""
+        cfg = self.config
+        path, path_cost, reached = search
+        t0, t1 = clock
         t2 = time.perf_counter()
         points = self._waypoints(cmap, path, reached)
 
         # validated once here (shape, dtype, NaN/inf), then sampled for each candidate path
         rotation_map, velocity_map, gripper_map = (
-            None if m is None else check_value_map(kind, m, self.grid)
-            for kind, m in (
-                ("rotation", rotation_map),
-                ("velocity", velocity_map),
-                ("gripper", gripper_map),
-            )
-        )
+            None if m is None else check_value_map(kind, m, self.grid) for kind, m in
+            (("rotation", rotation_map), ("velocity", velocity_map), ("gripper", gripper_map)))
 
         def read_maps(positions: NDArray[np.float64]) -> Trajectory:
             return extract_trajectory(
-                positions,
-                self.grid,
-                rotation_map=rotation_map,
-                velocity_map=velocity_map,
-                gripper_map=gripper_map,
-                checked=True,
+                positions, self.grid, rotation_map=rotation_map, velocity_map=velocity_map,
+                gripper_map=gripper_map, checked=True,
                 default_quat=np.asarray(current_quat, dtype=np.float64),
-                default_gripper=current_gripper,
-            )
+                default_gripper=current_gripper)
 
         traj = read_maps(points)
         grasping = reached and current_gripper < 0.5 and traj.gripper[-1] >= 0.5
@@ -135,12 +170,8 @@ class PathPlanner:
             if not collides(approach, self.grid, cmap.fine_obstacles):
                 traj = read_maps(approach)
         t3 = time.perf_counter()
-        timings = {
-            "postprocess": (t1 - t0) * 1e3,
-            "search": (t2 - t1) * 1e3,
-            "trajectory": (t3 - t2) * 1e3,
-            "total": (t3 - t0) * 1e3,
-        }
+        timings = {"postprocess": (t1 - t0) * 1e3, "search": (t2 - t1) * 1e3,
+                   "trajectory": (t3 - t2) * 1e3, "total": (t3 - t0) * 1e3}
         return Plan(traj, cmap, path, reached, path_cost, cfg.method, timings)
 
     def _compose_and_search(

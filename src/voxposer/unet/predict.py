@@ -53,7 +53,9 @@ def predict_cost_map(checkpoint: Checkpoint | Path, observation: Any, instructio
                      grid: VoxelGrid, start: ArrayLike,
                      occupancy: NDArray[np.bool_] | None = None,
                      config: CostMapConfig | None = None,
-                     target_tolerance: float = 0.01) -> CostMap:
+                     target_tolerance: float = 0.01,
+                     entity_occupancy: NDArray[np.bool_] | None = None,
+                     layer_z: float | None = None) -> CostMap:
     """The planner's cost map for ``instruction`` in the observed scene, from the U-Net.
 
     Args:
@@ -67,6 +69,9 @@ def predict_cost_map(checkpoint: Checkpoint | Path, observation: Any, instructio
         config: cost-map parameters (the end-effector planner's when the data was made with
             it; defaults when None).
         target_tolerance: target voxels lie within this of the minimum (normalised cost).
+        entity_occupancy: the moving entity's own voxels on ``grid`` (not obstacles).
+        layer_z: an object sliding on the table at this height [m]: the target is the lowest
+            cost within its planning layer, and the path stays in that layer (None: anywhere).
     """
     cfg = config or CostMapConfig()
     coarse = grid.coarsen(cfg.downsample)
@@ -76,12 +81,20 @@ def predict_cost_map(checkpoint: Checkpoint | Path, observation: Any, instructio
         raise ConfigError(f"the checkpoint predicts on a cost grid of shape {ckpt.grid_shape}, "
                           f"but this planner's cost grid has shape {coarse.shape}")
     cost = predict_cost(ckpt, _voxels(observation, coarse), instruction)
-    target = cost <= float(cost.min()) + target_tolerance * ckpt.cost_scale
+    allowed = np.ones(cost.shape, dtype=bool)
+    if layer_z is not None:
+        start_m = np.asarray(start, dtype=np.float64).reshape(3)
+        kz = int(coarse.world_to_voxel([start_m[0], start_m[1], layer_z], clip=True)[2])
+        allowed[:] = False
+        allowed[:, :, kz] = True
+    lowest = float(cost[allowed].min())
+    target = allowed & (cost <= lowest + target_tolerance * ckpt.cost_scale)
     f = cfg.downsample
     fine = np.repeat(np.repeat(np.repeat(target, f, 0), f, 1), f, 2)[
         :grid.shape[0], :grid.shape[1], :grid.shape[2]]
     base = compose_cost_map(grid, fine.astype(np.float32), start, occupancy=occupancy,
-                            config=replace(cfg, avoidance_keep_out=0.0))
+                            entity_occupancy=entity_occupancy,
+                            config=replace(cfg, avoidance_keep_out=0.0), layer_z=layer_z)
     residual = np.clip(cost - cfg.affordance_weight * base.affordance_cost, 0, None)
     avoidance = (residual / cfg.avoidance_weight if cfg.avoidance_weight > 0
                  else np.zeros_like(residual))
