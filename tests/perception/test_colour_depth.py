@@ -102,3 +102,24 @@ def test_segmentation_channel_is_never_read(scene: Observation, world: TabletopW
     honest = ColourDepthPerceiver(RecordedObservations(scene, object_names=()), world.grid)
     assert misled.object_names == honest.object_names
     np.testing.assert_array_equal(misled.point_cloud().labels, honest.point_cloud().labels)
+
+
+def test_noisy_table_points_are_table_not_obstacles(world: TabletopWorld) -> None:
+    """With a consumer camera's depth noise and calibration error the table's points scatter
+    ~1 cm about its plane; they must stay table, so a pushed block is not walled in by them."""
+    from voxposer.catalog import NO_OBJECT
+    from voxposer.perception.noisy_source import NoisyObservationSource
+    from voxposer.perception.sensor_noise import SensorNoiseConfig
+
+    world.reset(np.random.default_rng(3), LAYOUT)
+    config = dataclasses.replace(SensorNoiseConfig(), mask_corruption=False)
+    noisy = ColourDepthPerceiver(NoisyObservationSource(world, config, seed=11), world.grid)
+    cloud = noisy.point_cloud()
+    low = (cloud.points[:, 2] < 0.015) & (cloud.points[:, 2] > 0.003)
+    assert low.sum() > 1000  # the noise does lift table points above a 3 mm band
+    unlabelled_low = low & (cloud.labels == NO_OBJECT)
+    assert unlabelled_low.sum() < 0.01 * low.sum()
+    # and the blue block's layer is open around it: most voxels there are free
+    occ = noisy.scene_occupancy("blue block", holding=False, ignore_table=True)
+    k = world.grid.world_to_voxel(np.array([[-0.2, -0.1, 0.025]]))[0][2]
+    assert occ[:, :, k].mean() < 0.05
