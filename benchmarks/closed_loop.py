@@ -8,7 +8,10 @@ wall second (simulation of the robot's motion between steps not included). ``sho
 random-shooting step with 10,000 sampled pushes against a cost map. The last line is
 machine-readable.
 
-    python benchmarks/closed_loop.py [--episodes 3]
+    python benchmarks/closed_loop.py [--episodes 3] [--perception colour-depth-noisy]
+
+``--perception`` picks the perceiver (:data:`voxposer.pipeline.PERCEPTIONS`; default the
+simulator's segmentation), e.g. the pixel perception with sensor noise.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from rich.table import Table
 from voxposer.envs import TabletopWorld
 from voxposer.envs.layout import SceneLayout
 from voxposer.lmp.backends.replay import ReplayBackend
-from voxposer.pipeline import Embodiment, voxposer_runtime
+from voxposer.pipeline import PERCEPTIONS, Embodiment, voxposer_runtime
 from voxposer.planning.mpc import random_shooting
 from voxposer.planning.push_primitive import PushConfig
 from voxposer.valuemaps import compose_cost_map
@@ -37,10 +40,12 @@ INSTRUCTION = "move to the top of the blue block while staying away from the gre
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=3, help="rollouts (different seeds)")
+    parser.add_argument("--perception", choices=PERCEPTIONS, default="ground-truth",
+                        help="the perceiver of the rollouts")
     args = parser.parse_args()
     console = Console(stderr=True)
     world = TabletopWorld()
-    body = Embodiment.simulated(world)
+    body = Embodiment.simulated(world, args.perception)
     steps: list[dict[str, float]] = []
     successes = 0
     for seed in range(args.episodes):
@@ -75,14 +80,14 @@ def main() -> None:
     parts = {k: float(np.median([s[k] for s in steps])) for k in ("observe", "maps", "plan")}
     per_step = np.array([sum(s.values()) for s in steps])
     hz = float(1000.0 / np.median(per_step))
-    table = Table(title=f"closed loop, {os.cpu_count()} CPU cores: {len(steps)} replanning steps "
-                  f"in {args.episodes} rollouts ({successes} reached)")
+    table = Table(title=f"closed loop, {os.cpu_count()} CPU cores, {args.perception} perception: "
+                  f"{len(steps)} replanning steps in {args.episodes} rollouts ({successes} reached)")
     for col in ("observe ms", "maps ms", "plan ms", "step ms", "replan Hz", "shooting ms (10k)"):
         table.add_column(col, justify="right")
     table.add_row(*(f"{parts[k]:.1f}" for k in ("observe", "maps", "plan")),
                   f"{np.median(per_step):.1f}", f"{hz:.1f}", f"{np.median(shots):.1f}")
     console.print(table)
-    print(f"replan_hz={hz:.2f} shooting_ms={np.median(shots):.2f}")
+    print(f"perception={args.perception} replan_hz={hz:.2f} shooting_ms={np.median(shots):.2f}")
 
 
 if __name__ == "__main__":
