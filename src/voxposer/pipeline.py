@@ -31,6 +31,7 @@ from voxposer.perception.noisy_source import NoisyObservationSource, seed_from_s
 from voxposer.perception.perceiver import Perceiver
 from voxposer.perception.segmentation import SegmentationPerceiver
 from voxposer.perception.sensor_noise import SensorNoiseConfig
+from voxposer.planning.dynamics import DynamicsModel
 from voxposer.robot import Robot
 
 #: How a simulated embodiment finds objects (``--perception``): the simulator's ground-truth
@@ -109,6 +110,7 @@ def voxposer_runtime(
     picture_dir: Path | None = None,
     on_replan: Callable[[ExecutionResult, Any], None] | None = None,
     transcript: Transcript | None = None,
+    push_model: DynamicsModel | None = None,
 ) -> tuple[LMPRuntime, RobotHandoff]:
     """The LMP runtime whose ``execute`` calls the closed-loop executor on ``body``.
 
@@ -121,13 +123,15 @@ def voxposer_runtime(
         picture_dir: where each sub-task's HTML picture goes (None: none).
         on_replan: called after every replan (live progress, disturbances).
         transcript: where every LLM call, program and execution is logged.
+        push_model: the pushing MPC's dynamics model (None: the paper's heuristic,
+            :class:`~voxposer.planning.dynamics.TranslationPush`).
 
     Returns:
         (runtime, hand-off): run instructions with ``runtime.run``; ``handoff.records`` holds
         every executed sub-task.
     """
     handoff = RobotHandoff(body.robot, body.perceiver, rng, executor_config or ExecutorConfig(),
-                           picture_dir=picture_dir, on_replan=on_replan)
+                           picture_dir=picture_dir, on_replan=on_replan, push_model=push_model)
     runtime = LMPRuntime(body.scene, backend, handoff, lmp_config, transcript=transcript)
     return runtime, handoff
 

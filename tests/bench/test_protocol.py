@@ -130,7 +130,8 @@ def test_unseen_instructions_hold_the_task_out_of_the_prompts(monkeypatch, instr
         return _Capture(kwargs["lmp_config"]), None
 
     monkeypatch.setattr(pipeline, "voxposer_runtime", fake_runtime)
-    monkeypatch.setattr(pipeline.Embodiment, "simulated", classmethod(lambda cls, world: None))
+    monkeypatch.setattr(pipeline.Embodiment, "simulated",
+                        classmethod(lambda cls, world, perception=None: None))
     monkeypatch.setattr(primitives, "PrimitivesRuntime",
                         lambda body, backend, config, **kw: _Capture(config))
     world = SimpleNamespace(config=SimpleNamespace(controller=SimpleNamespace(max_speed_scale=5)))

@@ -3,6 +3,7 @@ what is allowed, exit status 2, and no simulator, model or benchmark worker star
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -78,6 +79,8 @@ def _refused(argv: list[str], capsys: pytest.CaptureFixture[str], tmp_path: Path
      ["no U-Net checkpoint at /nonexistent/m.pt"]),
     (["bench", "--method", "unet_mp", "--unet-checkpoint", "m.pt", "--llm", "reference"],
      ["unet_mp runs no LLM", "--llm reference"]),
+    (["bench", "--breakdown", "/nonexistent/run"],
+     ["--breakdown /nonexistent/run", "no episodes.jsonl"]),
     (["plan-demo", "--seed", "-5"], ["--seed", ">= 0", "got -5"]),
     (["lmp", " "], ["query is only whitespace"]),
     (["lmp", "a point above the blue block", "--max-attempts", "0"],
@@ -90,6 +93,17 @@ def test_a_bad_value_is_one_line_and_status_2(argv: list[str], words: list[str],
                                                tmp_path: Path) -> None:
     line = _refused(argv, capsys, tmp_path)
     assert all(w in line for w in words), line
+
+
+def test_a_breakdown_of_episodes_without_their_programs_is_refused(
+        capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    run_dir = tmp_path / "old-run"
+    run_dir.mkdir()
+    old = {"task": "push_to_pos", "split": "seen", "seed": 7, "method": "voxposer",
+           "llm": "default", "instructions": "seen", "success": False}  # written before programs
+    (run_dir / "episodes.jsonl").write_text(json.dumps(old) + "\n")
+    line = _refused(["bench", "--breakdown", str(run_dir)], capsys, tmp_path)
+    assert "push_to_pos/seen/seed 7" in line and "lacks 'programs'" in line, line
 
 
 def test_an_out_folder_that_is_a_file_is_refused(capsys: pytest.CaptureFixture[str],

@@ -21,7 +21,9 @@ from voxposer.bench.config import Tolerances
 from voxposer.bench.disturb import EpisodeDisturbance
 from voxposer.bench.methods import BACKENDLESS_LLMS, REFERENCE_BLIND, get_method
 from voxposer.bench.paraphrases import paraphrase
+from voxposer.bench.program_replay import QUERY_CHARS
 from voxposer.bench.protocol import ADHOC
+from voxposer.bench.push_dynamics import HEURISTIC, CountingPush, push_dynamics
 from voxposer.bench.suites import TASKS_SUITE, suite_task
 from voxposer.bench.task import reset_episode
 from voxposer.bench.trace import TraceRecorder
@@ -52,6 +54,12 @@ class EpisodeJob:
         suite: the instruction suite ``task`` comes from ("tasks" or "multistep":
             :mod:`voxposer.bench.suites`).
         unet_checkpoint: the U-Net checkpoint's path (method "unet_mp"), else None.
+        perception: how the robot finds objects (:data:`voxposer.pipeline.PERCEPTIONS`; None:
+            this process's default, see :func:`voxposer.pipeline.use_perception`).
+        dynamics: the pushing MPC's dynamics model (:data:`~voxposer.bench.push_dynamics.DYNAMICS`): "heuristic" (the
+            paper's, :class:`~voxposer.planning.dynamics.TranslationPush`) or "simulator" (each
+            sampled push simulated in a copy of the world: the error breakdown's counterfactual,
+            :class:`~voxposer.bench.sim_dynamics.SimulatedPush`).
     """
 
     task: str
@@ -67,6 +75,8 @@ class EpisodeJob:
     out_dir: str | None = None
     suite: str = TASKS_SUITE
     unet_checkpoint: str | None = None
+    perception: str | None = None
+    dynamics: str = HEURISTIC
 
     @property
     def key(self) -> tuple[str, str, str, str, str, int, bool]:
@@ -125,6 +135,10 @@ class EpisodeRecord:
     suite: str = TASKS_SUITE
     #: the trained model the method ran (unet_mp: its checkpoint's {"path", "sha256"} prefix)
     unet_checkpoint: dict[str, str] | None = None
+    #: the pushing MPC's dynamics model (:data:`~voxposer.bench.push_dynamics.DYNAMICS`) and how many pushes it predicted
+    #: (MPC steps; 0: the episode pushed nothing)
+    dynamics: str = HEURISTIC
+    push_predictions: int = 0
 
     def to_json(self) -> dict[str, Any]:
         """A JSON-serialisable dict."""
@@ -137,7 +151,7 @@ class EpisodeRecord:
         return cls(job.task, job.split, job.seed, job.method, job.llm,
                    instructions=job.instructions, seed_set=job.seed_set, code_hash=v.code_hash,
                    prompt_hash=v.prompt_hash, git_commit=v.commit, git_dirty=v.dirty,
-                   disturbed=job.disturbed, suite=job.suite)
+                   disturbed=job.disturbed, suite=job.suite, dynamics=job.dynamics)
 
 
 class CountingBackend(LLMBackend):
@@ -162,7 +176,7 @@ class CountingBackend(LLMBackend):
         self.completion_tokens += response.completion_tokens
         self.seconds += response.seconds
         query = request.messages[-1].content if request.messages else ""
-        self.programs.append({"lmp": request.prefix_id or "", "query": query[-300:],
+        self.programs.append({"lmp": request.prefix_id or "", "query": query[-QUERY_CHARS:],
                               "code": response.text})
         return response
 
@@ -220,6 +234,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         if backend is None:
             raise VoxPoserError(f"episode {job.key} has no LLM backend")
         counting = CountingBackend(backend)
+        push_model = CountingPush(push_dynamics(job.dynamics, world))
         sim0 = float(world.data.time)
         if job.disturbed:
             disturbance = EpisodeDisturbance(world, task, setup.attributes)
@@ -229,7 +244,8 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
             try:
                 method.run(world, counting, setup, job.max_time_s, job.instructions,
                            make_disturber=disturbance, intents=rec.intent,
-                           checkpoint=job.unet_checkpoint)
+                           checkpoint=job.unet_checkpoint, perception=job.perception,
+                           push_model=push_model)
             except VoxPoserError as err:
                 rec.program_error = f"{type(err).__name__}: {err}"
                 failure = err
@@ -239,6 +255,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         rec.llm_cached_calls = counting.cached
         rec.completion_tokens = counting.completion_tokens
         rec.programs = counting.programs
+        rec.push_predictions = push_model.calls
         rec.intent_verdict = intent_verdict(rec.intent, failure)
         unstable = instability(failure, world)
         if unstable is not None:

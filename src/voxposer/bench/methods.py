@@ -9,7 +9,7 @@ replay backend of a task's reference programs (and of their constraint-blind con
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
@@ -23,6 +23,7 @@ from voxposer.lmp.backends.replay import ReplayBackend
 
 if TYPE_CHECKING:
     from voxposer.control.disturbance_schedule import Disturber
+    from voxposer.planning.dynamics import DynamicsModel
 
 #: builds an episode's disturber from (its generator, the reach tolerance [m]).
 DisturberFactory = Callable[[np.random.Generator, float], "Disturber"]
@@ -53,7 +54,8 @@ class Method:
 
     def run(self, world: Any, backend: LLMBackend, setup: EpisodeSetup, max_time_s: float,
             instructions: str = "seen", make_disturber: DisturberFactory | None = None,
-            intents: list[dict[str, Any]] | None = None, checkpoint: str | None = None) -> None:
+            intents: list[dict[str, Any]] | None = None, checkpoint: str | None = None,
+            perception: str | None = None, push_model: DynamicsModel | None = None) -> None:
         """Carry out ``setup.instruction`` (raises VoxPoserError when the method fails).
 
         Args:
@@ -68,12 +70,19 @@ class Method:
             intents: receives the post-conditions VoxPoser's plan stated, evaluated
                 (:class:`voxposer.lmp.intent.IntentResult` as dicts), also when the run fails.
             checkpoint: the trained model's path (unet_mp: its U-Net checkpoint).
+            perception: how the robot finds objects (:data:`voxposer.pipeline.PERCEPTIONS`;
+                None: this process's default).
+            push_model: the pushing MPC's dynamics model (None: the paper's heuristic); one
+                with a ``push_samples`` attribute sets how many pushes the MPC samples.
         """
         from voxposer.control import ExecutorConfig
         from voxposer.lmp.registry import LMPConfig
 
         config = LMPConfig(held_out_task=setup.task) if instructions == "unseen" else None
         exec_config = ExecutorConfig(max_time_s=max_time_s)
+        samples = getattr(push_model, "push_samples", None)
+        if samples is not None:  # an expensive model (the simulator) is sampled less
+            exec_config = replace(exec_config, push=replace(exec_config.push, n_samples=samples))
         # the executor's generator is the first child with or without a disturber
         rng, disturb_rng = setup.rng.spawn(2)
         disturber = None if make_disturber is None else make_disturber(
@@ -84,13 +93,15 @@ class Method:
             from voxposer.bench.unet_method import run_unet_mp
 
             run_unet_mp(world, setup, checkpoint, exec_config, rng,
-                        None if disturber is None else disturber.on_replan)
+                        None if disturber is None else disturber.on_replan,
+                        push_model=push_model)
             return
-        body = Embodiment.simulated(world)
+        body = Embodiment.simulated(world, perception)
         if self.name == "voxposer":
             runtime, _ = voxposer_runtime(
                 body, backend, rng, executor_config=exec_config, lmp_config=config,
-                on_replan=None if disturber is None else disturber.on_replan)
+                on_replan=None if disturber is None else disturber.on_replan,
+                push_model=push_model)
             try:
                 runtime.run(setup.instruction)
             finally:

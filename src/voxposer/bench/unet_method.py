@@ -209,7 +209,8 @@ class PredictedCostPlanner(PathPlanner):
 
 def run_unet_mp(world: Any, setup: EpisodeSetup, checkpoint: str | None,
                 config: ExecutorConfig, rng: np.random.Generator,
-                on_replan: Callable[[Any, Any], None] | None = None) -> None:
+                on_replan: Callable[[Any, Any], None] | None = None, *,
+                push_model: Any = None) -> None:
     """Carry out ``setup.instruction`` with the U-Net's cost maps (see the module docs).
 
     Args:
@@ -217,6 +218,7 @@ def run_unet_mp(world: Any, setup: EpisodeSetup, checkpoint: str | None,
         checkpoint: the U-Net checkpoint's path.
         config: closed-loop parameters; rng: randomness of the pushing MPC.
         on_replan: called after every replan (disturbances).
+        push_model: the pushing MPC's dynamics model (None: the paper's heuristic).
 
     Raises:
         ConfigError: no or a wrong checkpoint.
@@ -243,6 +245,7 @@ def run_unet_mp(world: Any, setup: EpisodeSetup, checkpoint: str | None,
     loop.object_planner = PredictedCostPlanner(grid, config.object_planner, ckpt,
                                                setup.instruction, observe_cloud)
     loop.on_replan = on_replan
+    loop.push_model = push_model
     name = str(perceiver.detect(first.entity)["name"])
     # the executor requires an affordance map; the predicted-cost planners never read it
     unread = np.zeros(grid.shape, dtype=np.float32)

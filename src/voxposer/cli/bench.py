@@ -137,6 +137,11 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    "RGB-D pixels only (colour-depth); -noisy: on views with a consumer RGB-D "
                    "camera's errors (depth noise, missing depth, calibration; masks too); "
                    "recorded in every episode")
+    p.add_argument("--breakdown", type=Path, nargs="+", default=None, metavar="RUN",
+                   help="instead of running episodes: attribute every failed episode of these "
+                   "run folders to perception, dynamics or specification by counterfactual "
+                   "re-runs (paper Fig. 4); writes <run>/breakdown.jsonl and, into --out "
+                   "(default runs/breakdown), breakdown.md and breakdown.png")
     p.add_argument("--no-plot", action="store_true", help="skip success.png")
     p.set_defaults(func=run, check=check_args)
     return p
@@ -155,6 +160,12 @@ def check_args(args: argparse.Namespace) -> None:
             ``--workers 0``, ``--seed -5``, ``--max-time 0``, an empty ``--tasks``…), and every
             check of :class:`BenchConfig` and of the LLM options.
     """
+    if getattr(args, "breakdown", None):
+        from voxposer.cli.bench_breakdown import check_breakdown
+
+        check_out_dir(args.out)
+        check_breakdown(args)
+        return
     check_int(args.episodes, "--episodes", 1)
     check_seed(args.seed)
     if args.workers is not None:
@@ -214,6 +225,10 @@ def _default_out(cfg: BenchConfig) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Run the benchmark; exit status 0 when it completed (whatever the success rates)."""
+    if getattr(args, "breakdown", None):
+        from voxposer.cli.bench_breakdown import run_breakdown
+
+        return run_breakdown(args)
     cfg = _config(args)
     out = args.out or Path("runs") / "bench" / _default_out(cfg)
     results = out / "episodes.jsonl"

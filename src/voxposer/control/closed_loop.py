@@ -38,6 +38,7 @@ from voxposer.control.tracking import follow
 from voxposer.errors import PlanningError
 from voxposer.perception.names import is_end_effector
 from voxposer.perception.perceiver import Perceiver
+from voxposer.planning.dynamics import DynamicsModel
 from voxposer.planning.planner import PathPlanner, Plan
 from voxposer.robot import Robot
 
@@ -80,6 +81,9 @@ class ClosedLoopController:
         self.history: list[ExecutionResult] = []
         #: called after every replan with (result so far, plan); for live progress displays
         self.on_replan: Callable[[ExecutionResult, Plan], None] | None = None
+        #: the push dynamics model the pushing MPC samples through (None: the paper's
+        #: heuristic, :class:`~voxposer.planning.dynamics.TranslationPush`)
+        self.push_model: DynamicsModel | None = None
 
     def __call__(
         self,

@@ -23,6 +23,7 @@ from voxposer.control.table_layer import onto_layer
 from voxposer.errors import PlanningError, UnreachablePoseError
 from voxposer.geometry.frames import TOP_DOWN_QUAT, pointat2quat
 from voxposer.perception.perceiver import Perceiver
+from voxposer.planning.dynamics import DynamicsModel
 from voxposer.planning.mpc import random_shooting
 from voxposer.planning.push_primitive import PushAction, push_waypoints
 from voxposer.robot import MoveResult, Robot
@@ -43,6 +44,7 @@ class LoopHost(Protocol):
     perceiver: Perceiver
     object_planner: Any
     rng: np.random.Generator
+    push_model: DynamicsModel | None
 
     def start(self, name: str) -> ExecutionResult: ...
     def finish(self, result: ExecutionResult, reason: StopReason, message: str
@@ -101,6 +103,7 @@ def run_object(
             cost_map=plan.cost_map,
             axis=axis,
             config=cfg.push,
+            model=loop.push_model,
         )
         if axis is not None:  # a part: push at its centre height, no farther than needed
             action = action._replace(

@@ -25,6 +25,7 @@ from voxposer.control.config import ExecutorConfig
 from voxposer.control.execution_result import ExecutionResult
 from voxposer.errors import ExecutionFailedError
 from voxposer.perception.perceiver import Perceiver
+from voxposer.planning.dynamics import DynamicsModel
 from voxposer.robot import Robot
 
 log = logging.getLogger(__name__)
@@ -50,6 +51,7 @@ class RobotHandoff:
         config: closed-loop parameters.
         picture_dir: where to write ``subtask_<k>.html`` pictures (None = none).
         on_replan: forwarded to the closed-loop executor (live progress, disturbances).
+        push_model: the pushing MPC's dynamics model (None: the paper's heuristic).
         records: every sub-task executed, in order.
         keep_going: a sub-task that misses its target is recorded and the program goes on
             (recording a zero-shot trajectory whole), instead of raising.
@@ -61,6 +63,7 @@ class RobotHandoff:
     config: ExecutorConfig = field(default_factory=ExecutorConfig)
     picture_dir: Path | None = None
     on_replan: Callable[[ExecutionResult, Any], None] | None = None
+    push_model: DynamicsModel | None = None
     on_subtask: Callable[[str], None] | None = None
     records: list[SubtaskRecord] = field(default_factory=list)
     keep_going: bool = False
@@ -73,6 +76,7 @@ class RobotHandoff:
         if self.on_subtask is not None:
             self.on_subtask(request.subtask)
         self._loop.on_replan = self.on_replan
+        self._loop.push_model = self.push_model
         name = str(request.movable()["name"])
 
         def movable() -> Any:  # the entity as currently observed, in world coordinates
