@@ -74,13 +74,41 @@ def _paint_hsv() -> NDArray[np.float32]:
     return rgb_to_hsv(paint)
 
 
+#: Memo entry of an RGB value not classified yet.
+_UNKNOWN: Final = -2
+#: RGB value (packed ``r << 16 | g << 8 | b``) → its colour word, filled as values are met
+#: (16 MiB, made on first use; a pixel's word depends on its RGB value alone).
+_memo: list[NDArray[np.int8]] = []
+
+
 def colour_labels(rgb: NDArray[np.uint8]) -> NDArray[np.int32]:
-    """The colour word of every pixel of ``rgb`` (shape (H, W, 3), uint8) as an index into
-    :data:`COLOR_NAMES`, shape (H, W), int32; :data:`NO_COLOUR` where none fits.
+    """The colour word of every pixel of ``rgb`` (shape (..., 3), uint8: an image (H, W, 3) or
+    pixels (N, 3)) as an index into :data:`COLOR_NAMES`, shape (...), int32; :data:`NO_COLOUR`
+    where none fits.
 
     Chromatic words: nearest paint in hue among those within :data:`HUE_TOLERANCE_DEG` and
-    :data:`SATURATION_TOLERANCE` (wider where a channel clips: :data:`CLIPPED_VALUE`). "gray": any achromatic pixel that is not too dark.
+    :data:`SATURATION_TOLERANCE` (wider where a channel clips: :data:`CLIPPED_VALUE`). "gray":
+    any achromatic pixel that is not too dark. Each RGB value is classified once per process
+    (:func:`classify_colours`) and remembered, so a frame of colours met before costs a lookup.
     """
+    flat = np.asarray(rgb, dtype=np.uint8).reshape(-1, 3)
+    if not _memo:
+        _memo.append(np.full(1 << 24, _UNKNOWN, dtype=np.int8))
+    memo = _memo[0]
+    packed = (flat[:, 0].astype(np.int32) << 16) | (flat[:, 1].astype(np.int32) << 8) | flat[:, 2]
+    words = memo[packed]
+    missing = words == _UNKNOWN
+    if missing.any():
+        keys = np.unique(packed[missing])
+        values = np.stack([keys >> 16, (keys >> 8) & 255, keys & 255], axis=1).astype(np.uint8)
+        memo[keys] = classify_colours(values)
+        words = memo[packed]
+    return words.astype(np.int32).reshape(np.shape(rgb)[:-1])
+
+
+def classify_colours(rgb: NDArray[np.uint8]) -> NDArray[np.int32]:
+    """:func:`colour_labels` computed afresh for every pixel (no memo): ``rgb`` shape (..., 3)
+    uint8 → shape (...) int32."""
     hsv = rgb_to_hsv(rgb)
     hue, sat, val = hsv[..., 0], hsv[..., 1], hsv[..., 2]
     paint = _paint_hsv()
@@ -101,4 +129,4 @@ def colour_labels(rgb: NDArray[np.uint8]) -> NDArray[np.int32]:
     return out
 
 
-__all__ = ["GRAY", "NO_COLOUR", "PAINT_RGB", "colour_labels", "rgb_to_hsv"]
+__all__ = ["GRAY", "NO_COLOUR", "PAINT_RGB", "classify_colours", "colour_labels", "rgb_to_hsv"]

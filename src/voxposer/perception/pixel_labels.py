@@ -66,10 +66,12 @@ class PixelLabels:
 def colour_cloud(obs: Observation, grid: VoxelGrid) -> PointCloud:
     """Every view fused into one cloud cropped to ``grid``, whose ``labels`` are colour words
     (indices into :data:`voxposer.catalog.COLOR_NAMES`, -1 none) read from RGB. The views'
-    segmentation channel is never read."""
-    # the same views, their label channel replaced by colour words
-    views = [replace(f, object_ids=colour_labels(f.rgb)) for f in obs.cameras]
-    return fuse_views(views, grid)
+    segmentation channel is never read: the fused cloud's labels are replaced by the colour
+    words of its points' RGB (only the pixels kept by the crop are classified)."""
+    blank = [replace(f, object_ids=np.full(f.depth.shape, -1, dtype=np.int32))
+             for f in obs.cameras]
+    cloud = fuse_views(blank, grid)
+    return replace(cloud, labels=colour_labels(cloud.colors))
 
 
 def _gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
@@ -108,9 +110,9 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
             seen.append(name)
     free = labels == NO_OBJECT
     labels[free & ~achromatic & (points[:, 2] <= TABLE_TOP_M)] = label_of("table")
-    robot = free & achromatic
-    gripper = robot & _gripper_mask(points, np.asarray(obs.ee_position, np.float64),
-                                    np.asarray(obs.ee_quat, np.float64))
+    robot = np.flatnonzero(free & achromatic)
+    gripper = robot[_gripper_mask(points[robot], np.asarray(obs.ee_position, np.float64),
+                                  np.asarray(obs.ee_quat, np.float64))]
     labels[robot] = label_of("robot")
     labels[gripper] = label_of("gripper")
     seen += [n for n in ("table", "robot", "gripper") if np.any(labels == label_of(n))]

@@ -147,13 +147,14 @@ def fuse_views(views: Sequence[DepthView], grid: VoxelGrid | None = None) -> Poi
         normals_cam, _ = _camera_normals(x, y, z)
         idx = np.flatnonzero(np.isfinite(z))
         rot, trans = view.extrinsics[:3, :3], view.extrinsics[:3, 3]
-        xk, yk, zk = x.ravel()[idx], y.ravel()[idx], z.ravel()[idx]
-        pts = np.empty((len(idx), 3))
-        for i in range(3):
-            pts[:, i] = rot[i, 0] * xk + rot[i, 1] * yk + rot[i, 2] * zk + trans[i]
-        if grid is not None:
-            inside = np.all((pts >= grid.bounds_min) & (pts <= grid.bounds_max), axis=-1)
-            idx, pts = idx[inside], pts[inside]
+        xk, yk, zk = (c.ravel()[idx].astype(np.float64) for c in (x, y, z))
+        coords = [rot[i, 0] * xk + rot[i, 1] * yk + rot[i, 2] * zk + trans[i] for i in range(3)]
+        if grid is not None:  # crop one axis at a time (cheaper than an (N, 3) mask)
+            inside = np.ones(len(idx), dtype=bool)
+            for i in range(3):
+                inside &= (coords[i] >= grid.bounds_min[i]) & (coords[i] <= grid.bounds_max[i])
+            idx, coords = idx[inside], [c[inside] for c in coords]
+        pts = np.stack(coords, axis=1)
         nk = normals_cam.reshape(-1, 3)[idx]
         normals = nk.astype(np.float64) @ rot.T
         labels = view.object_ids.ravel()[idx].astype(np.int32)
