@@ -28,6 +28,11 @@ from voxposer.tabletop import (
 
 #: Fewest points inside the cabinet's box for it to count as present.
 MIN_CABINET_POINTS: Final = 150
+#: Only points higher than this [m] count toward the cabinet's presence and body: lower ones
+#: may be the table's (a consumer RGB-D camera's table points reach 2 cm:
+#: :data:`voxposer.perception.pixel_labels.TABLE_TOP_M`); at 3 mm, the noisy table inside an
+#: absent cabinet's box made a cabinet, an obstacle at the front of the table.
+ABOVE_TABLE_M: Final = 0.02
 #: Fewest front-facing points for a drawer's front plane to be measured.
 MIN_FRONT_POINTS: Final = 15
 #: Margin [m] around the cabinet's box and a drawer's band that still counts as inside.
@@ -89,7 +94,7 @@ def fit_cabinet(points: NDArray[np.float64], normals: NDArray[np.float64],
     x, y, z = points[:, 0], points[:, 1], points[:, 2]
     in_x = np.abs(x - cx) <= sx + MARGIN_M
     in_box = (in_x & (y >= front - MARGIN_M) & (y <= cy + sy + MARGIN_M)
-              & (z > 0.003) & (z <= height + MARGIN_M))
+              & (z > ABOVE_TABLE_M) & (z <= height + MARGIN_M))
     if np.count_nonzero(in_box) < MIN_CABINET_POINTS:
         return CabinetFit(False, {}, {})
     taken = np.zeros(len(points), dtype=bool)

@@ -6,7 +6,11 @@ on the table or carried. For each colour word: the points raised above the table
 the block (the largest compact cluster, with touching fragments), the block's flat points just
 above the table stay with it, and the remaining flat points are the line (all its fragments: an
 object lying across a line cuts it in two). A gray block is the one compact achromatic cluster
-that is not part of the (equally gray) robot; a gray line a thin flat achromatic strip.
+that is not part of the (equally gray) robot; a gray line a thin flat achromatic strip. When the
+gray block touches the robot (the gripper closing on it, pushing it), its points join the
+robot's and no compact cluster is left: then, if the block was found before, it is tracked —
+the raised gray points in a block-sized box around where it was, re-centred on them
+(:data:`TRACK_HALF_M`).
 """
 
 from __future__ import annotations
@@ -37,6 +41,10 @@ LINE_MAX_LENGTH_M: Final = 0.24
 #: A gray block's cluster spans at least this much in x and in y [m] (its top face is 5 cm
 #: square at any yaw); a gray finger of the robot, cut off from its hand, spans less.
 GRAY_MIN_SPAN_M: Final = 0.03
+#: A tracked block's points: within this distance [m] of its centre along each axis (half its
+#: 5 cm size plus a margin), the box re-centred on them this many times (the block moved).
+TRACK_HALF_M: Final = 0.03
+TRACK_STEPS: Final = 3
 
 
 def _compact(points: NDArray[np.float64]) -> bool:
@@ -73,6 +81,20 @@ def _block_members(points: NDArray[np.float64], raised: NDArray[np.bool_], gray:
     return members | under
 
 
+def _tracked_members(points: NDArray[np.float64], raised: NDArray[np.bool_],
+                     prior: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Which of one colour's ``points`` (shape (N, 3)) lie in a block-sized box around the
+    block's previous centre ``prior`` [m], shape (3,), re-centred on them (empty: too few)."""
+    centre = np.asarray(prior, dtype=np.float64)
+    inside = np.zeros(len(points), dtype=bool)
+    for _ in range(TRACK_STEPS):
+        inside = raised & np.all(np.abs(points - centre) <= TRACK_HALF_M, axis=1)
+        if inside.sum() < MIN_BLOCK_POINTS:
+            return np.zeros(len(points), dtype=bool)
+        centre = points[inside].mean(axis=0)
+    return inside
+
+
 def _thin_strip(points: NDArray[np.float64]) -> bool:
     """Whether points (shape (N, 3)) form a strip no wider and longer than a line."""
     xy = points[:, :2] - points[:, :2].mean(axis=0)
@@ -100,7 +122,8 @@ def _line_members(points: NDArray[np.float64], flat: NDArray[np.bool_], gray: bo
     return members
 
 
-def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32]
+def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32],
+                          priors: dict[str, NDArray[np.float64]] | None = None
                           ) -> dict[str, NDArray[np.int64]]:
     """Blocks and lines among colour-labelled points.
 
@@ -108,6 +131,8 @@ def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32
         points: fused world points [m], shape (N, 3) (the table top is z = 0).
         colours: colour word of each point, shape (N,): an index into :data:`COLOR_NAMES`, or
             negative for none.
+        priors: block name → its centre [m], shape (3,), when last found: the gray block is
+            tracked from there when it touches the robot (see the module docs).
 
     Returns:
         object name ("blue block", "gray line") → indices into ``points`` of its points, for
@@ -121,6 +146,9 @@ def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32
         pts = points[idx]
         raised = pts[:, 2] >= FLAT_Z_M
         block = _block_members(pts, raised, gray=k == GRAY)
+        prior = (priors or {}).get(f"{colour} block")
+        if k == GRAY and not block.any() and prior is not None:
+            block = _tracked_members(pts, raised, prior)
         if block.any():
             found[f"{colour} block"] = idx[block]
         line = _line_members(pts, ~raised & ~block, gray=k == GRAY)

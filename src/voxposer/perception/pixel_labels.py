@@ -17,7 +17,7 @@ detection and obstacle maps work on either cloud alike.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Final
 
 import numpy as np
@@ -55,12 +55,14 @@ class PixelLabels:
         openings: drawer ("top", …) → measured opening [m] (drawers whose front was seen, or
             known from before).
         cabinet: whether the cabinet was found.
+        blocks: block name → its centre [m], shape (3,), of the blocks found.
     """
 
     cloud: PointCloud
     seen: tuple[str, ...]
     openings: dict[str, float]
     cabinet: bool
+    blocks: dict[str, NDArray[np.float64]] = field(default_factory=dict)
 
 
 def colour_cloud(obs: Observation, grid: VoxelGrid) -> PointCloud:
@@ -85,21 +87,27 @@ def _gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
 
 
 def label_pixels(obs: Observation, grid: VoxelGrid,
-                 prior_openings: dict[str, float] | None = None) -> PixelLabels:
+                 prior_openings: dict[str, float] | None = None,
+                 prior_blocks: dict[str, NDArray[np.float64]] | None = None) -> PixelLabels:
     """Catalog labels for the fused cloud of ``obs`` from its RGB and depth only.
 
     Args:
         obs: the observation (its ``object_ids`` are not read).
         grid: workspace grid the cloud is cropped to.
         prior_openings: drawer openings [m] measured before, for drawers hidden now.
+        prior_blocks: block centres [m] found before (:attr:`PixelLabels.blocks`), to track a
+            gray block that touches the robot (:mod:`voxposer.perception.colour_objects`).
     """
     colour_pts = colour_cloud(obs, grid)
     points, colours = colour_pts.points, colour_pts.labels
     labels = np.full(len(points), NO_OBJECT, dtype=np.int32)
     seen: list[str] = []
-    for name, idx in find_blocks_and_lines(points, colours).items():
+    blocks: dict[str, NDArray[np.float64]] = {}
+    for name, idx in find_blocks_and_lines(points, colours, prior_blocks).items():
         labels[idx] = label_of(name)
         seen.append(name)
+        if name.endswith(" block"):
+            blocks[name] = points[idx].mean(axis=0)
     free = labels == NO_OBJECT
     achromatic = colours == GRAY
     hued = np.flatnonzero(free & ~achromatic)
@@ -117,7 +125,7 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
     labels[gripper] = label_of("gripper")
     seen += [n for n in ("table", "robot", "gripper") if np.any(labels == label_of(n))]
     cloud = PointCloud(points, colour_pts.normals, labels, colour_pts.colors, colour_pts.camera)
-    return PixelLabels(cloud, tuple(seen), dict(fit.openings), fit.present)
+    return PixelLabels(cloud, tuple(seen), dict(fit.openings), fit.present, blocks)
 
 
 __all__ = ["PixelLabels", "colour_cloud", "label_pixels"]

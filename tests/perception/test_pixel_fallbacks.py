@@ -1,0 +1,58 @@
+"""The pixel perception's two hard cases: a gray block touching the gray robot (tracked from
+where it was), and a noisy table inside the box of an absent cabinet (not a cabinet)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voxposer.perception.cabinet_fit import fit_cabinet
+from voxposer.perception.colour_names import GRAY
+from voxposer.perception.colour_objects import find_blocks_and_lines
+from voxposer.tabletop import CABINET_POSITION, CABINET_SIZE
+
+
+def _cube(centre: tuple[float, float, float], rng: np.random.Generator, n: int = 600
+          ) -> np.ndarray:
+    return np.asarray(centre) + rng.uniform(-0.025, 0.025, (n, 3))
+
+
+def test_a_gray_block_in_the_gripper_is_tracked_from_where_it_was() -> None:
+    rng = np.random.default_rng(0)
+    block = _cube((0.1, -0.1, 0.025), rng)
+    # the gripper closing on it: the hand resting on its top face, rising above it (one gray
+    # cluster with the block), and a finger 1.2 cm beside it
+    hand = np.column_stack([rng.uniform(0.07, 0.13, 900), rng.uniform(-0.13, -0.07, 900),
+                            rng.uniform(0.051, 0.2, 900)])
+    finger = np.column_stack([rng.uniform(0.09, 0.11, 200), rng.uniform(-0.145, -0.137, 200),
+                              rng.uniform(0.01, 0.06, 200)])
+    fingers = np.vstack([hand, finger])
+    points = np.vstack([block, fingers])
+    colours = np.full(len(points), GRAY, dtype=np.int32)
+    assert "gray block" not in find_blocks_and_lines(points, colours)  # merged with the robot
+    found = find_blocks_and_lines(points, colours, {"gray block": np.array([0.11, -0.09, 0.03])})
+    centre = points[found["gray block"]].mean(axis=0)
+    assert np.linalg.norm(centre - [0.1, -0.1, 0.025]) < 0.01
+    assert np.count_nonzero(found["gray block"] >= len(block)) < 0.1 * len(block)  # few finger
+
+
+def test_a_block_far_from_its_prior_is_not_made_up() -> None:
+    rng = np.random.default_rng(1)
+    robot = np.column_stack([rng.uniform(-0.3, 0.0, 3000), rng.uniform(-0.05, 0.05, 3000),
+                             rng.uniform(0.0, 0.5, 3000)])
+    colours = np.full(len(robot), GRAY, dtype=np.int32)
+    found = find_blocks_and_lines(robot, colours, {"gray block": np.array([0.2, 0.2, 0.025])})
+    assert "gray block" not in found
+
+
+def test_a_noisy_table_in_an_absent_cabinets_box_is_no_cabinet() -> None:
+    rng = np.random.default_rng(2)
+    cx, cy = CABINET_POSITION
+    sx, sy = CABINET_SIZE[0] / 2, CABINET_SIZE[1] / 2
+    n = 5000
+    table = np.column_stack([rng.uniform(cx - sx, cx + sx, n), rng.uniform(cy - sy, cy + sy, n),
+                             np.abs(rng.normal(0.0, 0.006, n))])  # a consumer camera's table
+    normals = np.tile([0.0, 0.0, 1.0], (n, 1))
+    assert not fit_cabinet(table, normals).present
+    box = np.column_stack([rng.uniform(cx - sx, cx + sx, n), rng.uniform(cy - sy, cy + sy, n),
+                           rng.uniform(0.0, CABINET_SIZE[2], n)])
+    assert fit_cabinet(box, normals).present  # a real cabinet's points still are one
