@@ -7,7 +7,7 @@ import numpy as np
 
 from voxposer.perception.cabinet_fit import fit_cabinet
 from voxposer.perception.colour_names import GRAY
-from voxposer.perception.colour_objects import find_blocks_and_lines
+from voxposer.perception.colour_objects import find_blocks_and_lines, line_prior
 from voxposer.tabletop import CABINET_POSITION, CABINET_SIZE
 
 
@@ -56,3 +56,18 @@ def test_a_noisy_table_in_an_absent_cabinets_box_is_no_cabinet() -> None:
     box = np.column_stack([rng.uniform(cx - sx, cx + sx, n), rng.uniform(cy - sy, cy + sy, n),
                            rng.uniform(0.0, CABINET_SIZE[2], n)])
     assert fit_cabinet(box, normals).present  # a real cabinet's points still are one
+
+
+def test_a_gray_line_joined_by_other_flat_gray_points_is_kept_where_it_lay() -> None:
+    rng = np.random.default_rng(3)
+    line = np.column_stack([rng.uniform(-0.1, 0.1, 400), rng.uniform(-0.006, 0.006, 400),
+                            rng.uniform(-0.002, 0.002, 400)])
+    shadow = np.column_stack([rng.uniform(0.05, 0.15, 600), rng.uniform(0.01, 0.08, 600),
+                              rng.uniform(-0.002, 0.002, 600)])  # flat, gray, touching it
+    colours = np.full(len(line) + len(shadow), GRAY, dtype=np.int32)
+    points = np.vstack([line, shadow])
+    assert "gray line" not in find_blocks_and_lines(points, colours)  # no thin strip left
+    prior = line_prior(line)
+    found = find_blocks_and_lines(points, colours, {"gray line": prior})["gray line"]
+    assert np.count_nonzero(found < len(line)) > 0.9 * len(line)
+    assert np.count_nonzero(found >= len(line)) < 0.1 * len(shadow)

@@ -10,7 +10,9 @@ that is not part of the (equally gray) robot; a gray line a thin flat achromatic
 gray block touches the robot (the gripper closing on it, pushing it), its points join the
 robot's and no compact cluster is left: then, if the block was found before, it is tracked —
 the raised gray points in a block-sized box around where it was, re-centred on them
-(:data:`TRACK_HALF_M`).
+(:data:`TRACK_HALF_M`). Likewise a gray line that joins other flat gray points (a shadow, the
+robot's base) is kept from where it lay (lines do not move): the flat gray points in the strip it
+occupied (:data:`LINE_TRACK_HALF_WIDTH_M`).
 """
 
 from __future__ import annotations
@@ -45,6 +47,20 @@ GRAY_MIN_SPAN_M: Final = 0.03
 #: 5 cm size plus a margin), the box re-centred on them this many times (the block moved).
 TRACK_HALF_M: Final = 0.03
 TRACK_STEPS: Final = 3
+#: A tracked line's points: within this distance [m] across its previous axis (its 1.2 cm
+#: width plus a margin) and within its previous half-length plus this along it.
+LINE_TRACK_HALF_WIDTH_M: Final = 0.012
+LINE_TRACK_END_M: Final = 0.01
+
+
+def line_prior(points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A line's footprint from its points (shape (N, 3)), for tracking: its centre [m] (3),
+    unit axis in the table plane (3) and half-length [m] (1), shape (7,)."""
+    centre = points.mean(axis=0)
+    xy = points[:, :2] - centre[:2]
+    axis2 = np.linalg.svd(xy, full_matrices=False)[2][0]
+    half = float(np.abs(xy @ axis2).max())
+    return np.concatenate([centre, [axis2[0], axis2[1], 0.0], [half]])
 
 
 def _compact(points: NDArray[np.float64]) -> bool:
@@ -95,6 +111,18 @@ def _tracked_members(points: NDArray[np.float64], raised: NDArray[np.bool_],
     return inside
 
 
+def _tracked_line(points: NDArray[np.float64], flat: NDArray[np.bool_],
+                  prior: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Which of one colour's flat ``points`` lie in the strip a line occupied (``prior``:
+    :func:`line_prior`); empty with too few."""
+    centre, axis, half = prior[:3], prior[3:6], float(prior[6])
+    rel = points[:, :2] - centre[:2]
+    along = rel @ axis[:2]
+    across = np.abs(rel @ np.array([-axis[1], axis[0]]))
+    inside = flat & (np.abs(along) <= half + LINE_TRACK_END_M) & (across <= LINE_TRACK_HALF_WIDTH_M)
+    return inside if inside.sum() >= MIN_LINE_POINTS else np.zeros(len(points), dtype=bool)
+
+
 def _thin_strip(points: NDArray[np.float64]) -> bool:
     """Whether points (shape (N, 3)) form a strip no wider and longer than a line."""
     xy = points[:, :2] - points[:, :2].mean(axis=0)
@@ -131,8 +159,9 @@ def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32
         points: fused world points [m], shape (N, 3) (the table top is z = 0).
         colours: colour word of each point, shape (N,): an index into :data:`COLOR_NAMES`, or
             negative for none.
-        priors: block name → its centre [m], shape (3,), when last found: the gray block is
-            tracked from there when it touches the robot (see the module docs).
+        priors: what was found before: block name → its centre [m], shape (3,); line name →
+            its footprint (:func:`line_prior`); the gray block and line are tracked from there
+            when they join other gray points (see the module docs).
 
     Returns:
         object name ("blue block", "gray line") → indices into ``points`` of its points, for
@@ -152,9 +181,12 @@ def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32
         if block.any():
             found[f"{colour} block"] = idx[block]
         line = _line_members(pts, ~raised & ~block, gray=k == GRAY)
+        line_was = (priors or {}).get(f"{colour} line")
+        if k == GRAY and not line.any() and line_was is not None:
+            line = _tracked_line(pts, ~raised & ~block, line_was)
         if line.any():
             found[f"{colour} line"] = idx[line]
     return found
 
 
-__all__ = ["FLAT_Z_M", "find_blocks_and_lines"]
+__all__ = ["FLAT_Z_M", "find_blocks_and_lines", "line_prior"]

@@ -28,7 +28,7 @@ from voxposer.catalog import NO_OBJECT, label_of
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.cabinet_fit import fit_cabinet
 from voxposer.perception.colour_names import GRAY, colour_labels
-from voxposer.perception.colour_objects import find_blocks_and_lines
+from voxposer.perception.colour_objects import find_blocks_and_lines, line_prior
 from voxposer.perception.observation import Observation
 from voxposer.perception.point_cloud import PointCloud, fuse_views
 
@@ -55,7 +55,9 @@ class PixelLabels:
         openings: drawer ("top", …) → measured opening [m] (drawers whose front was seen, or
             known from before).
         cabinet: whether the cabinet was found.
-        blocks: block name → its centre [m], shape (3,), of the blocks found.
+        blocks: of the blocks and lines found, what tracks them next time: block name → its
+            centre [m], shape (3,); line name → its footprint
+            (:func:`~voxposer.perception.colour_objects.line_prior`).
     """
 
     cloud: PointCloud
@@ -95,8 +97,9 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
         obs: the observation (its ``object_ids`` are not read).
         grid: workspace grid the cloud is cropped to.
         prior_openings: drawer openings [m] measured before, for drawers hidden now.
-        prior_blocks: block centres [m] found before (:attr:`PixelLabels.blocks`), to track a
-            gray block that touches the robot (:mod:`voxposer.perception.colour_objects`).
+        prior_blocks: blocks and lines found before (:attr:`PixelLabels.blocks`), to track the
+            gray block and line when they join other gray points
+            (:mod:`voxposer.perception.colour_objects`).
     """
     colour_pts = colour_cloud(obs, grid)
     points, colours = colour_pts.points, colour_pts.labels
@@ -108,6 +111,8 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
         seen.append(name)
         if name.endswith(" block"):
             blocks[name] = points[idx].mean(axis=0)
+        elif len(idx) >= 2:
+            blocks[name] = line_prior(points[idx])
     free = labels == NO_OBJECT
     achromatic = colours == GRAY
     hued = np.flatnonzero(free & ~achromatic)
