@@ -56,10 +56,12 @@ class EpisodeJob:
         unet_checkpoint: the U-Net checkpoint's path (method "unet_mp"), else None.
         perception: how the robot finds objects (:data:`voxposer.pipeline.PERCEPTIONS`; None:
             this process's default, see :func:`voxposer.pipeline.use_perception`).
-        dynamics: the pushing MPC's dynamics model (:data:`~voxposer.bench.push_dynamics.DYNAMICS`): "heuristic" (the
+        dynamics: the pushing MPC's dynamics model
+            (:data:`~voxposer.bench.push_dynamics.DYNAMICS`): "heuristic" (the
             paper's, :class:`~voxposer.planning.dynamics.TranslationPush`) or "simulator" (each
             sampled push simulated in a copy of the world: the error breakdown's counterfactual,
-            :class:`~voxposer.bench.sim_dynamics.SimulatedPush`).
+            :class:`~voxposer.bench.sim_dynamics.SimulatedPush`) or "learned" (``push_model``).
+        push_model: the learned push model's file (dynamics "learned"), else None.
     """
 
     task: str
@@ -77,6 +79,7 @@ class EpisodeJob:
     unet_checkpoint: str | None = None
     perception: str | None = None
     dynamics: str = HEURISTIC
+    push_model: str | None = None
 
     @property
     def key(self) -> tuple[str, str, str, str, str, int, bool]:
@@ -135,7 +138,8 @@ class EpisodeRecord:
     suite: str = TASKS_SUITE
     #: the trained model the method ran (unet_mp: its checkpoint's {"path", "sha256"} prefix)
     unet_checkpoint: dict[str, str] | None = None
-    #: the pushing MPC's dynamics model (:data:`~voxposer.bench.push_dynamics.DYNAMICS`) and how many pushes it predicted
+    #: the pushing MPC's dynamics model (:data:`~voxposer.bench.push_dynamics.DYNAMICS`) and
+    #: how many pushes it predicted
     #: (MPC steps; 0: the episode pushed nothing)
     dynamics: str = HEURISTIC
     push_predictions: int = 0
@@ -234,7 +238,7 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
         if backend is None:
             raise VoxPoserError(f"episode {job.key} has no LLM backend")
         counting = CountingBackend(backend)
-        push_model = CountingPush(push_dynamics(job.dynamics, world))
+        push_model = CountingPush(push_dynamics(job.dynamics, world, job.push_model))
         sim0 = float(world.data.time)
         if job.disturbed:
             disturbance = EpisodeDisturbance(world, task, setup.attributes)

@@ -27,6 +27,7 @@ from voxposer.bench.attributes import SPLITS, check_split
 from voxposer.bench.episode import EpisodeJob
 from voxposer.bench.methods import NO_LLM, REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.protocol import ADHOC, DEV_SEEDS, TEST_SEEDS, check_instructions, get_seed_set
+from voxposer.bench.push_dynamics import HEURISTIC, check_dynamics_options
 from voxposer.bench.ray_pool import run_ray
 from voxposer.bench.results import (
     append_record,
@@ -92,6 +93,10 @@ class BenchConfig:
         perception: how the simulated robot finds objects, one of
             :data:`voxposer.pipeline.PERCEPTIONS` ("ground-truth" segmentation, or
             "colour-depth": RGB-D pixels only); every record carries it.
+        dynamics: the pushing MPC's dynamics model (:data:`~voxposer.bench.push_dynamics.
+            DYNAMICS`: "heuristic", the paper's; "simulator"; "learned", from ``push_model``).
+        push_model: the learned push model (``voxposer learn-push``'s ``push_model.npz``;
+            required with dynamics "learned", refused otherwise).
         unet_checkpoint: the U-Net checkpoint of method "unet_mp" (required there, refused
             elsewhere: :func:`voxposer.bench.unet_method.check_unet_options`).
     """
@@ -116,6 +121,8 @@ class BenchConfig:
     suite: str = TASKS_SUITE
     perception: str = "ground-truth"
     unet_checkpoint: Path | None = None
+    dynamics: str = HEURISTIC
+    push_model: Path | None = None
 
     def __post_init__(self) -> None:
         check_suite(self.suite)
@@ -128,6 +135,7 @@ class BenchConfig:
         get_method(self.method)
         if self.llm not in LLM_CHOICES:
             raise ConfigError(f"unknown llm {self.llm!r}; choose one of: {', '.join(LLM_CHOICES)}")
+        check_dynamics_options(self.dynamics, self.push_model)
         check_unet_options(self.method, self.llm, self.unet_checkpoint, suite=self.suite,
                            instructions=self.instructions)
         if not isinstance(self.episodes, int) or self.episodes < 1:
@@ -221,7 +229,8 @@ class BenchConfig:
         return [EpisodeJob(t, s, seed, self.method, self.llm, self.max_time_s,
                            self.instructions, self.seed_set, self.disturb, self.video, out,
                            suite=self.suite, unet_checkpoint=None if self.unet_checkpoint
-                           is None else str(self.unet_checkpoint))
+                           is None else str(self.unet_checkpoint), dynamics=self.dynamics,
+                           push_model=None if self.push_model is None else str(self.push_model))
                 for seed in self.seed_list() for t in tasks for s in self.splits]
 
 

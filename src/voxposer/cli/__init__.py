@@ -107,13 +107,23 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--seed", type=int, default=0, help="seed for the random obstacle blobs")
     demo.add_argument("--out", default="runs/plan-demo", help="output folder")
     demo.set_defaults(func=_plan_demo, check=_check_plan_demo)
-    from voxposer.cli import bench, bench_data, learn_dynamics, lmp, render, run, train_unet
+    from voxposer.cli import (
+        bench,
+        bench_data,
+        learn_dynamics,
+        learn_push,
+        lmp,
+        render,
+        run,
+        train_unet,
+    )
 
     run.add_parser(sub)
     bench.add_parser(sub)
     bench_data.add_parser(sub)
     train_unet.add_parser(sub)
     learn_dynamics.add_parser(sub)
+    learn_push.add_parser(sub)
     lmp.add_parser(sub)
     render.add_parser(sub)
     return parser

@@ -137,6 +137,12 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    "RGB-D pixels only (colour-depth); -noisy: on views with a consumer RGB-D "
                    "camera's errors (depth noise, missing depth, calibration; masks too); "
                    "recorded in every episode")
+    p.add_argument("--dynamics", default="heuristic",
+                   help="the pushing MPC's dynamics model: heuristic (the paper's: the object "
+                   "translates with the push), simulator (each sampled push simulated; slow) or "
+                   "learned (an MLP from voxposer learn-push, with --push-model)")
+    p.add_argument("--push-model", type=Path, default=None,
+                   help="push_model.npz of voxposer learn-push (--dynamics learned)")
     p.add_argument("--breakdown", type=Path, nargs="+", default=None, metavar="RUN",
                    help="instead of running episodes: attribute every failed episode of these "
                    "run folders to perception, dynamics or specification by counterfactual "
@@ -210,7 +216,9 @@ def _config(args: argparse.Namespace) -> BenchConfig:
                        pool=args.pool, ray_address=args.ray_address,
                        max_time_s=args.max_time, llm_overrides=overrides,
                        fresh_cache=args.fresh_cache, video=args.video, disturb=args.disturb,
-                       suite=suite, perception=args.perception, **kwargs)
+                       suite=suite, perception=args.perception,
+                       dynamics=getattr(args, "dynamics", "heuristic"),
+                       push_model=getattr(args, "push_model", None), **kwargs)
 
 
 def _default_out(cfg: BenchConfig) -> str:
@@ -218,6 +226,8 @@ def _default_out(cfg: BenchConfig) -> str:
     name = f"{cfg.method}-{cfg.llm}" + ("" if cfg.suite == TASKS_SUITE else f"-{cfg.suite}")
     if cfg.perception != "ground-truth":
         name += f"-{cfg.perception}"
+    if cfg.dynamics != "heuristic":
+        name += f"-{cfg.dynamics}-dynamics"
     if cfg.seed_set != "dev":
         name += f"-{cfg.seed_set}"
     return name + ("" if cfg.instructions == "seen" else f"-{cfg.instructions}-instructions")

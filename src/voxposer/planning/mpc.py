@@ -34,6 +34,38 @@ def lookahead_point(path: NDArray[np.float64], lookahead: float) -> NDArray[np.f
     return dense[min(int(np.searchsorted(arc, lookahead)), len(dense) - 1)]
 
 
+def sample_pushes(points: NDArray[np.float64], rng: np.random.Generator, config: PushConfig,
+                  axis: NDArray[np.float64] | None = None
+                  ) -> tuple[PushBatch, NDArray[np.float64], NDArray[np.float64]]:
+    """``config.n_samples`` pushes of the object with ``points`` [m], shape (P, 3), P >= 1:
+    random directions in the table plane (±``axis`` when given), distances in the configured
+    range, contacts on the face opposite the push, shifted sideways, at push height.
+
+    Returns:
+        (the pushes, their sideways unit axes (S, 3), the object's outline relative to its
+        centre (K, 3)).
+    """
+    cfg, n = config, config.n_samples
+    centre = points.mean(axis=0)
+    if axis is not None:
+        a = np.asarray(axis, dtype=np.float64)
+        a = a / np.linalg.norm(a)
+        directions = np.where(rng.random(n)[:, None] < 0.5, a, -a)
+    else:
+        theta = rng.uniform(-np.pi, np.pi, n)
+        directions = np.stack([np.cos(theta), np.sin(theta), np.zeros(n)], axis=1)
+    distances = rng.uniform(cfg.min_distance_m, cfg.max_distance_m, n)
+    # contact: the object's extreme point opposite the push, shifted sideways, at push height
+    ring = footprint(points) - centre  # (K, 3) outline in the table plane, K small
+    depth = -(directions @ ring.T).min(axis=1)  # distance from centre to the rear face [m]
+    side = np.stack([-directions[:, 1], directions[:, 0], np.zeros(n)], axis=1)
+    half_width = np.abs(side @ ring.T).max(axis=1)
+    lateral = rng.uniform(-1, 1, n) * cfg.lateral_fraction * half_width
+    contacts = centre - directions * depth[:, None] + side * lateral[:, None]
+    contacts[:, 2] = points[:, 2].min() + cfg.contact_height_m
+    return PushBatch(contacts, directions, distances), side, ring
+
+
 def random_shooting(
     object_points: NDArray[np.float64],
     path: NDArray[np.float64],
@@ -66,24 +98,8 @@ def random_shooting(
     centre = pts.mean(axis=0)
     goal = lookahead_point(np.asarray(path, dtype=np.float64), cfg.lookahead_m)
     n = cfg.n_samples
-
-    if axis is not None:
-        a = np.asarray(axis, dtype=np.float64)
-        a = a / np.linalg.norm(a)
-        directions = np.where(rng.random(n)[:, None] < 0.5, a, -a)
-    else:
-        theta = rng.uniform(-np.pi, np.pi, n)
-        directions = np.stack([np.cos(theta), np.sin(theta), np.zeros(n)], axis=1)
-    distances = rng.uniform(cfg.min_distance_m, cfg.max_distance_m, n)
-
-    # contact: the object's extreme point opposite the push, shifted sideways, at push height
-    ring = footprint(pts) - centre  # (K, 3) outline in the table plane, K small
-    depth = -(directions @ ring.T).min(axis=1)  # distance from centre to the rear face [m]
-    side = np.stack([-directions[:, 1], directions[:, 0], np.zeros(n)], axis=1)
-    half_width = np.abs(side @ ring.T).max(axis=1)
-    lateral = rng.uniform(-1, 1, n) * cfg.lateral_fraction * half_width
-    contacts = centre - directions * depth[:, None] + side * lateral[:, None]
-    contacts[:, 2] = pts[:, 2].min() + cfg.contact_height_m
+    pushes, side, ring = sample_pushes(pts, rng, cfg, axis)
+    contacts, directions, distances = pushes
 
     # the object's outline at the centre's height, predicted with its centre
     prediction = (model or TranslationPush()).predict(
