@@ -14,7 +14,10 @@ the report's failure modes; ``--disturb`` runs the episodes with the paper's dis
 puts both side by side). ``--suite multistep`` runs the multi-step instructions instead
 (:mod:`voxposer.bench.multistep`; ``--tasks`` then selects its entries): its records carry
 ``suite: multistep`` and its report gives per-entry and per-step success and the fully-completed
-fraction.
+fraction. ``--dynamics simulator|learned`` changes the pushing MPC's dynamics model (the
+simulator itself, or ``voxposer learn-push``'s MLP from ``--push-model``). ``--breakdown RUN …``
+runs no new episodes: it attributes every failure of those run folders to perception, dynamics
+or specification by counterfactual re-runs (paper Fig. 4; :mod:`voxposer.cli.bench_breakdown`).
 
 Every argument is checked before any work starts (:func:`check_args`; a bad one: one line and
 exit status 2). Ctrl-C, SIGINT (even in a background job that ignores it) and SIGTERM stop the
