@@ -66,6 +66,7 @@ class CountingPush:
         self.inner = inner
         self.calls = 0
         self.push_samples: int | None = getattr(inner, "push_samples", None)
+        self.handles_parts: bool = getattr(inner, "handles_parts", True)
 
     def predict(self, centre: NDArray[np.float64], points: NDArray[np.float64],
                 pushes: PushBatch) -> PushPrediction:

@@ -103,7 +103,7 @@ def run_object(
             cost_map=plan.cost_map,
             axis=axis,
             config=cfg.push,
-            model=loop.push_model,
+            model=_model_for(loop.push_model, sliding=axis is not None),
         )
         if axis is not None:  # a part: push at its centre height, no farther than needed
             action = action._replace(
@@ -127,6 +127,14 @@ def run_object(
     return loop.finish(
         result, "stalled", f"{cfg.max_pushes} pushes did not bring {name} to the target"
     )
+
+
+def _model_for(model: DynamicsModel | None, *, sliding: bool) -> DynamicsModel | None:
+    """``model`` for this push, or None (the heuristic) for a sliding part when the model says
+    it knows only free objects (``handles_parts`` False: a model learned on blocks)."""
+    if sliding and not getattr(model, "handles_parts", True):
+        return None
+    return model
 
 
 def _plan_object(loop: LoopHost, name: str, entity: Any, values: dict[str, Any], *,

@@ -84,3 +84,11 @@ def test_a_network_of_other_dims_or_a_missing_file_is_refused(tmp_path) -> None:
         LearnedPush(MLPDynamics(3, 3, MLPConfig(), np.random.default_rng(0)))
     with pytest.raises(ConfigError, match="no push model at"):
         LearnedPush.from_file(tmp_path / "none.npz")
+
+
+def test_a_drawer_is_pushed_with_the_heuristic_when_the_model_knows_only_blocks() -> None:
+    from voxposer.control.pushing_loop import _model_for
+
+    model = LearnedPush(MLPDynamics(3, 4, MLPConfig(), np.random.default_rng(0)))
+    assert _model_for(model, sliding=True) is None  # a drawer: the heuristic
+    assert _model_for(model, sliding=False) is model  # a block: the learned model

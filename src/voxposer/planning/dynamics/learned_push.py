@@ -76,7 +76,13 @@ class LearnedPush:
 
     Raises:
         ConfigError: the network has other dims than (state 3, action 4).
+
+    Attributes:
+        handles_parts: False — it is learned on free blocks, so the pushing loop keeps the
+            heuristic for a sliding part (a drawer moves exactly along its axis).
     """
+
+    handles_parts = False
 
     def __init__(self, model: MLPDynamics) -> None:
         if (model.obs_dim, model.action_dim) != (STATE_DIM, ACTION_DIM):
