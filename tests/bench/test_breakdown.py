@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from voxposer.bench.breakdown import attribute, check_rerunnable, failed_records
@@ -32,15 +34,45 @@ def test_a_program_missing_its_constraint_map_is_a_specification_error(world) ->
     assert a.steps[1].success
 
 
-def test_a_failure_of_the_pixel_perception_is_a_perception_error(world) -> None:
-    # reference programs on noisy pixels: the gray block beside the gray robot is not seen
-    rec = {"task": "drop_to_pos", "split": "unseen", "seed": 1, "method": "voxposer",
+class _ShiftedBlocks:
+    """A corrupted perceiver (a test double): every block is reported 10 cm from where it is."""
+
+    SHIFT = np.array([0.10, 0.0, 0.0])
+
+    def __init__(self, inner) -> None:
+        self.inner = inner
+
+    def __getattr__(self, name: str):
+        return getattr(self.inner, name)
+
+    def detect(self, name: str):
+        obj = self.inner.detect(name)
+        if not obj.name.endswith("block"):
+            return obj
+        steps = round(float(self.SHIFT[0]) / float(self.inner.grid.resolution))
+        return dataclasses.replace(obj, position=obj.position + self.SHIFT,
+                                   aabb=obj.aabb + self.SHIFT, points=obj.points + self.SHIFT,
+                                   occupancy=np.roll(obj.occupancy, steps, axis=0))
+
+
+def test_a_failure_of_a_corrupted_perception_is_a_perception_error(world, monkeypatch) -> None:
+    import voxposer.pipeline as pipeline
+
+    real = pipeline.simulated_perceiver
+
+    def perceiver(world, perception, **kw):  # "ground-truth-noisy" stands for the broken one
+        if perception == "ground-truth-noisy":
+            return _ShiftedBlocks(real(world, "ground-truth"))
+        return real(world, perception, **kw)
+
+    monkeypatch.setattr(pipeline, "simulated_perceiver", perceiver)
+    rec = {"task": "move_to_preposition", "split": "seen", "seed": 0, "method": "voxposer",
            "llm": "reference", "instructions": "seen", "seed_set": "dev",
-           "perception": "colour-depth-noisy", "success": False}
+           "perception": "ground-truth-noisy", "success": False}
     a = attribute(rec, world)
-    assert a.cause == "perception", a.note
+    assert a.cause == "perception", (a.note, [s.reason for s in a.steps])
     assert [s.step for s in a.steps] == ["reproduce", "perception"]
-    assert "no camera sees it" in (a.steps[0].program_error or "")
+    assert not a.steps[0].success and a.steps[1].success
 
 
 def test_a_failure_that_does_not_reproduce_is_unresolved(world) -> None:
