@@ -141,3 +141,13 @@ def test_a_run_continues_where_its_attributions_stopped(tmp_path: Path, world) -
     assert len(out.attributions) == 2
     with pytest.raises(ConfigError, match=r"no episodes\.jsonl"):
         load_run(tmp_path / "missing")
+
+
+def test_a_method_without_reference_programs_says_so(world) -> None:
+    # LLM + Primitives: no task has hand-written primitive programs yet
+    rec = {"task": "move_to_region", "split": "seen", "seed": 0, "method": "llm_primitives",
+           "llm": "default", "instructions": "seen", "seed_set": "dev", "success": False,
+           "programs": [{"lmp": "llm_primitives", "query": "q", "code": "pass"}]}
+    a = attribute(rec, world)
+    assert a.cause == "unresolved"
+    assert "could not be replaced" in a.note and "no reference programs" in a.note, a.note

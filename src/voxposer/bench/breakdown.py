@@ -186,9 +186,13 @@ def attribute(rec: dict[str, Any], world: Any, *, max_time_s: float = DEFAULT_MA
             return out
     spec = _specification_job(job)
     if spec is not None:
-        if rerun("specification", spec).success:
+        result = rerun("specification", spec)
+        if result.success:
             out.cause = "specification"
             out.note = "succeeds with the reference programs"
+            return out
+        if result.reason.startswith("error:"):  # e.g. no reference programs for this method
+            out.note = f"the specification could not be replaced ({result.reason})"
             return out
     replaced = [s.step for s in out.steps[1:]]
     out.note = ("fails with " + ", ".join(replaced) + " replaced" if replaced
