@@ -133,6 +133,7 @@ def voxposer_runtime(
     handoff = RobotHandoff(body.robot, body.perceiver, rng, executor_config or ExecutorConfig(),
                            picture_dir=picture_dir, on_replan=on_replan, push_model=push_model)
     runtime = LMPRuntime(body.scene, backend, handoff, lmp_config, transcript=transcript)
+    runtime.intent.ee_speed = body.robot.ee_speed  # for the planner's speed(...) conditions
     return runtime, handoff
 
 

@@ -62,6 +62,11 @@ class Robot(Protocol):
         ...
 
     @property
+    def ee_speed(self) -> float:
+        """End-effector linear speed at ``speed_scale=1`` [m/s]."""
+        ...
+
+    @property
     def base_position(self) -> NDArray[np.float64]:
         """Position of the arm's base [m], shape (3,)."""
         ...

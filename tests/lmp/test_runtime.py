@@ -84,7 +84,7 @@ def test_self_correction_feeds_the_error_back(tmp_path: Path) -> None:
     ("get_avoidance_map", "5cm around the pink block", "unchanged"),
     ("parse_query_obj", "the violet sphere", "unknown object 'violet sphere'"),
     ("get_velocity_map", "half speed everywhere", "import"),
-    ("get_affordance_map", "a point 3cm behind the red block", "copy one first"),
+    ("get_affordance_map", "a point 3cm behind the red block", "copy it first"),
 ])
 def test_sanity_and_refusal_errors_trigger_a_retry(lmp: str, query: str, fed_back: str) -> None:
     rt = runtime("self_correction.jsonl")

@@ -28,7 +28,7 @@ import time
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any, Final
 
-from voxposer.bench.episode import EpisodeJob, run_episode
+from voxposer.bench.episode import EpisodeJob, EpisodeRecord, run_episode
 from voxposer.bench.methods import BACKENDLESS_LLMS, REFERENCE, REFERENCE_BLIND
 from voxposer.bench.program_replay import RecordedProgramsBackend
 from voxposer.bench.push_dynamics import HEURISTIC, SIMULATOR
@@ -154,7 +154,8 @@ def attribute(rec: dict[str, Any], world: Any, *, max_time_s: float = DEFAULT_MA
                       job.disturbed, job.suite, job.perception or GROUND_TRUTH, "unresolved",
                       "")
 
-    def rerun(step: str, j: EpisodeJob) -> StepOutcome:
+    def rerun(step: str, j: EpisodeJob) -> EpisodeRecord:
+        """Run ``j``, note it in ``out.steps`` as ``step``; returns its record."""
         backend = None
         if j.llm not in BACKENDLESS_LLMS:
             backend = RecordedProgramsBackend(rec["programs"])
@@ -165,17 +166,17 @@ def attribute(rec: dict[str, Any], world: Any, *, max_time_s: float = DEFAULT_MA
                               round(time.perf_counter() - t0, 2))
         out.steps.append(outcome)
         out.code_hash = r.code_hash
-        return outcome
+        return r
 
     first = rerun("reproduce", job)
     if first.success:
         out.note = "the failure did not reproduce (the re-run as it ran succeeded)"
         return out
-    pushed = first.pushes > 0
+    pushed = first.push_predictions > 0
     if job.perception != GROUND_TRUTH and job.method != UNET_MP:
         job = replace(job, perception=GROUND_TRUTH)
         result = rerun("perception", job)
-        pushed = result.pushes > 0
+        pushed = result.push_predictions > 0
         if result.success:
             out.cause, out.note = "perception", "succeeds with ground-truth perception"
             return out
@@ -191,7 +192,7 @@ def attribute(rec: dict[str, Any], world: Any, *, max_time_s: float = DEFAULT_MA
             out.cause = "specification"
             out.note = "succeeds with the reference programs"
             return out
-        if result.reason.startswith("error:"):  # e.g. no reference programs for this method
+        if result.error is not None:  # it crashed: e.g. no reference programs for the method
             out.note = f"the specification could not be replaced ({result.reason})"
             return out
     replaced = [s.step for s in out.steps[1:]]

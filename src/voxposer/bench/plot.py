@@ -10,21 +10,17 @@ from voxposer.bench.paper import paper_rate
 from voxposer.bench.report import Cell, group_label, tabulate
 from voxposer.bench.tasks import TASKS
 from voxposer.errors import VoxPoserError
+from voxposer.plotting import pyplot, save_figure
 
 
 def write_chart(records: list[dict[str, Any]], path: Path) -> Path:
     """Grouped bars: per task, our SA and UA and the paper's SA and UA; one panel per group.
 
     Raises:
-        VoxPoserError: matplotlib is missing (it is a dependency: reinstall the package).
+        VoxPoserError: matplotlib is missing (it is a dependency: reinstall the package), or
+            there are no episodes to plot.
     """
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover - a declared dependency
-        raise VoxPoserError("the report chart needs matplotlib: pip install matplotlib") from exc
+    plt = pyplot("the report chart")
     groups = sorted(tabulate(records).items())
     if not groups:
         raise VoxPoserError("no episodes to plot")
@@ -53,8 +49,4 @@ def write_chart(records: list[dict[str, Any]], path: Path) -> Path:
         ax.set_title(group_label(method, llm, instructions))
         ax.legend(fontsize=8, ncol=4, loc="lower left")
         ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)

@@ -16,6 +16,7 @@ from typing import Any
 from voxposer.bench.breakdown import CAUSES, record_key
 from voxposer.bench.report import group_label
 from voxposer.errors import VoxPoserError
+from voxposer.plotting import pyplot, save_figure
 
 #: bar colours of the causes.
 COLOURS = {"perception": "#4c72b0", "dynamics": "#dd8452", "specification": "#c44e52",
@@ -86,11 +87,7 @@ def breakdown_markdown(records: list[dict[str, Any]], attributions: list[dict[st
 def write_breakdown_chart(records: list[dict[str, Any]], attributions: list[dict[str, Any]],
                           path: Path) -> Path:
     """One stacked bar per group: each cause's share of the group's episodes [%]."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot("the error breakdown chart")
     table = summarise(records, attributions)
     if not table:
         raise VoxPoserError("no episodes to plot")
@@ -108,11 +105,7 @@ def write_breakdown_chart(records: list[dict[str, Any]], attributions: list[dict
     ax.set_title("Error breakdown by component")
     ax.legend(fontsize=8)
     ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def write_breakdown(records: list[dict[str, Any]], attributions: list[dict[str, Any]],

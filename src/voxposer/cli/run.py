@@ -2,10 +2,11 @@
 
 Builds the seeded MuJoCo tabletop, runs planner → composer → value-map LMPs → closed-loop
 ``execute`` with the configured language model (default: the bundled local model), shows the
-current sub-task, LLM calls, replanning rate and distance to the target, and writes to the output
-folder: ``rollout.mp4`` (one camera), ``subtask_NN.html`` (composed maps and planned path per
-sub-task), ``transcript.jsonl`` (prompts, responses, code, errors) and ``summary.json`` (with
-the ``scene`` it set up: which blocks, lines and open drawers, where, and why). The scene suits
+current sub-task, LLM calls, replanning rate and distance to the target
+(:mod:`voxposer.cli.run_progress`), and writes to the output folder: ``rollout.mp4`` (one
+camera), ``subtask_NN.html`` (composed maps and planned path per sub-task),
+``transcript.jsonl`` (prompts, responses, code, errors) and ``summary.json`` (with the
+``scene`` it set up: which blocks, lines and open drawers, where, and why). The scene suits
 the instruction (:mod:`voxposer.cli.run_scene`); ``--drawer-open`` and ``--place`` override it.
 Exit status 0 only when every sub-task reached its target and every post-condition the plan
 stated held (``intent`` in ``summary.json``, :mod:`voxposer.lmp.intent`); 2 for a bad argument (checked before
@@ -27,7 +28,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from rich.console import Console
 from rich.live import Live
-from rich.table import Table
 
 from voxposer import tabletop
 from voxposer.cli.checks import (
@@ -45,6 +45,7 @@ from voxposer.cli.perception_options import (
     open_vocab_from_args,
 )
 from voxposer.cli.run_frames import add_frame_options, check_frame_options, rollout_frames
+from voxposer.cli.run_progress import RunProgress, progress_backend
 from voxposer.cli.run_scene import CLOSE_OPENING_M, SceneRequest, allowed_range, choose_scene
 from voxposer.errors import VoxPoserError
 
@@ -136,59 +137,6 @@ def _backend(args: argparse.Namespace) -> Any:
     return backend_from_args(args)
 
 
-class _Progress:
-    """The live terminal panel and the counters behind it."""
-
-    def __init__(self, instruction: str) -> None:
-        self.instruction = instruction
-        self.subtask = "planning"
-        self.llm = "idle"
-        self.llm_calls = 0
-        self.replans = 0
-        self.hz = 0.0
-        self.distance = float("nan")
-        self.started = time.perf_counter()
-
-    def __rich__(self) -> Table:
-        table = Table.grid(padding=(0, 2))
-        table.add_column(style="bold cyan")
-        table.add_column()
-        table.add_row("instruction", self.instruction)
-        table.add_row("sub-task", self.subtask)
-        table.add_row("LLM", f"{self.llm} ({self.llm_calls} calls)")
-        table.add_row("replanning", f"{self.replans} plans, {self.hz:.1f} Hz")
-        table.add_row(
-            "to target", "—" if np.isnan(self.distance) else f"{self.distance * 100:.1f} cm"
-        )
-        table.add_row("elapsed", f"{time.perf_counter() - self.started:.0f} s")
-        return table
-
-
-def _progress_backend(backend: Any, progress: _Progress) -> Any:
-    """Wrap ``backend`` so the panel shows each LLM call while it runs."""
-    from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
-
-    class ProgressBackend(LLMBackend):
-        name = backend.name
-
-        @property
-        def model(self) -> str:
-            return str(backend.model)
-
-        def complete(self, request: LLMRequest) -> LLMResponse:
-            progress.llm = f"asking {request.prefix_id or 'model'}…"
-            try:
-                return backend.complete(request)
-            finally:
-                progress.llm_calls += 1
-                progress.llm = "idle"
-
-        def close(self) -> None:
-            backend.close()
-
-    return ProgressBackend()
-
-
 def scene_layout(instruction: str, rng: np.random.Generator | None = None,
                  request: SceneRequest | None = None) -> SceneLayout:
     """The scene for an instruction (:func:`voxposer.cli.run_scene.choose_scene`): every block
@@ -266,14 +214,14 @@ def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
     from voxposer.lmp.transcript import Transcript
     from voxposer.pipeline import Embodiment, voxposer_runtime
 
-    progress = _Progress(args.instruction)
+    progress = RunProgress(args.instruction)
     rng = np.random.default_rng(args.seed)
     world = TabletopWorld()
     scene = choose_scene(args.instruction, rng, request)
     layout = scene.layout
     summary["scene"] = scene.describe()  # what was asked, should the reset fail
     summary["scene"] = scene.describe(world.reset(rng, layout))
-    backend = _progress_backend(_backend(args), progress)
+    backend = progress_backend(_backend(args), progress)
     summary["model"] = backend.model
     transcript = Transcript(out / "transcript.jsonl")
     runtime, executor = voxposer_runtime(

@@ -48,6 +48,7 @@ class RecordedPoseRobot:
     """
 
     control_period = 0.02  # nominal [s]; nothing is stepped
+    ee_speed = 0.25  # nominal [m/s] (the tabletop controller's default); nothing moves
 
     def __init__(self, observation: Observation, gripper_opening_m: float | None = None,
                  base_position: ArrayLike | None = None) -> None:

@@ -83,6 +83,11 @@ class ArmStateMixin:
         return float(self.data.time)
 
     @property
+    def ee_speed(self) -> float:
+        """End-effector linear speed at ``speed_scale=1`` [m/s] (``ControllerConfig.ee_speed``)."""
+        return float(self.config.controller.ee_speed)
+
+    @property
     def base_position(self) -> NDArray[np.float64]:
         """Position of the robot's base [m], shape (3,)."""
         return np.asarray(self.config.robot_base, dtype=np.float64)

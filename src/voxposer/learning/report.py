@@ -16,6 +16,7 @@ import numpy as np
 
 from voxposer.errors import VoxPoserError
 from voxposer.learning.zero_shot import ZeroShotTrajectory
+from voxposer.plotting import pyplot, save_figure
 
 #: The paper's Table 3: task → (zero-shot, no prior, with prior success [%], with prior time [s]).
 PAPER_TABLE3: Final = {
@@ -89,13 +90,7 @@ def write_curves(records: list[dict[str, Any]], path: Path) -> Path:
     Raises:
         VoxPoserError: matplotlib is missing, or there is nothing to plot.
     """
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover - a declared dependency
-        raise VoxPoserError("the learning curves need matplotlib: pip install matplotlib") from exc
+    plt = pyplot("the learning-curve chart")
     runs: dict[tuple[str, bool, int], list[dict[str, Any]]] = defaultdict(list)
     for r in records:
         if "eval_success" in r:
@@ -118,11 +113,7 @@ def write_curves(records: list[dict[str, Any]], path: Path) -> Path:
         ax.set_ylabel("evaluation success [%]")
         ax.set_ylim(-5, 105)
         ax.legend(loc="lower right", fontsize=8)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 __all__ = ["PAPER_TABLE3", "final_records", "table3", "write_curves"]

@@ -6,7 +6,8 @@ The planner's code may follow a ``composer(...)`` call with ``expect(<condition>
     expect(on('pink block', 'table', 'right side'), moved('pink block', toward='right'))
 
 Each condition is evaluated right after the sub-task it follows, on what perception sees then
-(and, for :meth:`IntentChecks.away`, the path the sub-task executed). A condition is a
+(and, for :meth:`IntentChecks.away`, :meth:`~IntentChecks.passed_on` and
+:meth:`~IntentChecks.speed`, the path the sub-task executed). A condition is a
 :class:`Condition`: whether it held and what was measured. ``expect`` records every condition
 as an :class:`IntentResult`; :meth:`IntentChecks.verdict` says whether all held. Nothing here
 stops the plan: a false post-condition is reported after the run ("success" of ``voxposer run``
@@ -20,7 +21,6 @@ or the other object's centre) to the nearest face of the object's box (0 inside 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
 from typing import Any, Final
 
 import numpy as np
@@ -28,6 +28,8 @@ from numpy.typing import NDArray
 
 from voxposer.errors import ConfigError, VoxPoserError
 from voxposer.lmp.api import LMPAPI
+from voxposer.lmp.intent_conditions import Condition, IntentResult
+from voxposer.lmp.intent_paths import SIDE_SLACK_M, box_gap, motion_speeds, side_pass, speed_band
 from voxposer.lmp.sides import parse_side
 from voxposer.perception.names import is_end_effector, match_name
 
@@ -43,46 +45,11 @@ HOLD_CM: Final = 8.0
 #: at most this far [cm] from it.
 BESIDE_LATERAL_CM: Final = 4.0
 BESIDE_MAX_CM: Final = 15.0
+#: default distance [cm] between the faces of two things that "stayed away" from each other.
+AWAY_CM: Final = 5.0
 #: the names the planner's code sees.
-HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "holding")
-
-
-@dataclass(frozen=True)
-class Condition:
-    """One evaluated post-condition.
-
-    Attributes:
-        text: the call as written (``"moved('pink block', toward='right', cm=2)"``).
-        held: whether it was true.
-        measured: what was measured, in words with units.
-    """
-
-    text: str
-    held: bool
-    measured: str
-    #: the helper could not evaluate it (bad arguments, object not visible): not counted
-    error: bool = False
-
-    def __post_init__(self) -> None:  # numpy comparisons give numpy booleans
-        object.__setattr__(self, "held", bool(self.held))
-
-    def __bool__(self) -> bool:
-        return self.held
-
-
-@dataclass(frozen=True)
-class IntentResult:
-    """A condition ``expect`` recorded, with the sub-task it followed."""
-
-    subtask: str
-    condition: str
-    held: bool
-    measured: str
-    error: bool = False
-
-    def to_json(self) -> dict[str, Any]:
-        """A JSON-serialisable dict."""
-        return asdict(self)
+HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "passed_on", "speed",
+                  "holding")
 
 
 class IntentChecks:
@@ -98,12 +65,16 @@ class IntentChecks:
         self._subtask = ""
         self._before: dict[str, NDArray[np.float64]] = {}
         self._paths: dict[str, list[NDArray[np.float64]]] = {}
+        self._timed: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
+        #: the end effector's speed at speed scale 1 [m/s] (the robot's; None: unknown, so
+        #: ``speed`` conditions cannot be evaluated)
+        self.ee_speed: float | None = None
 
     # --------------------------------------------------------------- runtime hooks
     def begin_subtask(self, subtask: str) -> None:
         """Remember every visible object's centre [m] before ``subtask`` runs."""
         self._subtask = str(subtask)
-        self._paths = {}
+        self._paths, self._timed = {}, []
         before: dict[str, NDArray[np.float64]] = {"gripper": self._ee()}
         for name in self.api.scene.object_names:
             try:
@@ -117,7 +88,11 @@ class IntentChecks:
         entity's ``entity_path`` (shape (N, 3)), when the executor reports them."""
         trace = getattr(outcome, "trace", None)
         if trace is not None and len(trace):
-            self._paths.setdefault("gripper", []).append(np.asarray(trace, float).reshape(-1, 3))
+            ee_path = np.asarray(trace, float).reshape(-1, 3)
+            self._paths.setdefault("gripper", []).append(ee_path)
+            times = np.asarray(getattr(outcome, "trace_time", []), float).reshape(-1)
+            if len(times) == len(ee_path):
+                self._timed.append((ee_path, times))
         entity, path = getattr(outcome, "entity", None), getattr(outcome, "entity_path", None)
         if entity and path is not None and len(path):
             key = "gripper" if is_end_effector(str(entity)) else str(entity)
@@ -168,7 +143,7 @@ class IntentChecks:
         for cond in conditions:
             if not isinstance(cond, Condition):
                 raise ConfigError(f"expect() takes conditions from moved/near/on/above/away/"
-                                  f"holding; got {type(cond).__name__} {cond!r}")
+                                  f"passed_on/speed/holding; got {type(cond).__name__} {cond!r}")
             self.results.append(IntentResult(self._subtask, cond.text, bool(cond.held),
                                              cond.measured, bool(cond.error)))
         return all(bool(c.held) for c in conditions)
@@ -250,15 +225,63 @@ class IntentChecks:
                          f"{height:.1f} cm above the {other}'s top, "
                          f"{'over' if over else 'not over'} it")
 
-    def away(self, obj: str, target: str, cm: float) -> Condition:
+    def away(self, obj: str, target: str, cm: float = AWAY_CM) -> Condition:
         """During the last sub-task ``obj`` (its path when the executor moved it, else where
-        it is now) stayed at least ``cm`` [cm] from ``target``'s box."""
+        it is now) stayed at least ``cm`` [cm] from ``target``'s box: between their faces for
+        an object, from the end effector's point for the gripper."""
         name, other = self._name(obj), self._name(target)
         paths = self._paths.get(name, [])
         points = np.concatenate(paths) if paths else self._centre(name)[None]
-        dist = 100.0 * float(self._box_distance(points, other).min())
+        half = None
+        if name != "gripper":
+            lo, hi = self._aabb(name)
+            half = (hi - lo) / 2.0
+        dist = 100.0 * float(box_gap(points, *self._aabb(other), half).min())
         return Condition(_call("away", obj, target, cm=cm), dist >= cm,
                          f"closest {dist:.1f} cm to the {other} over {len(points)} points")
+
+    def passed_on(self, obj: str, target: str, side: str) -> Condition:
+        """While ``obj``'s path in the last sub-task was level with ``target`` (passing it), it
+        stayed on its ``side`` ("left side", "top": over it) — beyond that face, ±1 cm."""
+        name, other = self._name(obj), self._name(target)
+        text = _call("passed_on", obj, target, side)
+        paths = self._paths.get(name, [])
+        points = np.concatenate(paths) if paths else self._centre(name)[None]
+        passed = side_pass(points, *self._aabb(other), parse_side(side, name=other))
+        if passed.level == 0:
+            return Condition(text, False, f"never passed the {other}")
+        held = bool(passed.margin >= -SIDE_SLACK_M)
+        word = "beyond" if passed.margin >= 0 else "across"
+        return Condition(text, held, f"passed the {other} {abs(passed.margin) * 100:.1f} cm "
+                                     f"{word} its {side} face at worst ({passed.level} points)")
+
+    def speed(self, obj: str, scale: float, near: str | None = None, cm: float = NEAR_CM,
+              inside: str | None = None) -> Condition:
+        """In the last sub-task the end effector (``obj``: "gripper", or what it carries) moved
+        at about ``scale`` times its default speed (the median, in the band of
+        :func:`~voxposer.lmp.intent_paths.speed_band`: ±1.6x, a speed-up at least partly), counting
+        only where it was within ``cm`` [cm] of ``near``'s box, or over the ``inside`` part
+        of the table ("back side"), when given."""
+        text = _call("speed", obj, scale, near=near, cm=cm if near else None, inside=inside)
+        if self.ee_speed is None:
+            raise ConfigError("the robot's default speed is unknown here")
+        parts = [motion_speeds(path, times) for path, times in self._timed]
+        speeds = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0)
+        where = np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, 3))
+        zone = ""
+        if near is not None:
+            other = self._name(near)
+            close = box_gap(where, *self._aabb(other)) <= cm / 100.0
+            speeds, zone = speeds[close], f" within {cm:g} cm of the {other}"
+        if inside is not None:
+            over = self._over_table(where, inside)
+            speeds, zone = speeds[over], zone + f" over the {inside}"
+        if len(speeds) < 5:
+            return Condition(text, False, f"hardly moved{zone} ({len(speeds)} samples)")
+        ratio = float(np.median(speeds)) / self.ee_speed
+        lo, hi = speed_band(float(scale))
+        return Condition(text, lo <= ratio <= hi,
+                         f"median speed {ratio:.2f}x default{zone} (band [{lo:.2f}, {hi:.4g}])")
 
     def holding(self, obj: str) -> Condition:
         """The gripper is closed with ``obj``'s centre within 8 cm of the end effector."""
@@ -289,14 +312,25 @@ class IntentChecks:
         lo, hi = self.api.detect(name).aabb_world
         return np.asarray(lo, float), np.asarray(hi, float)
 
+    def _over_table(self, points: NDArray[np.float64], where: str) -> NDArray[np.bool_]:
+        """Which points (N, 3) [m] lie over the ``where`` part of the table, shape (N,)."""
+        grid = self.api.grid
+        mask = self.api.region_mask("table", where)
+        inside = np.asarray(grid.contains(points), dtype=bool).reshape(-1)
+        out = np.zeros(len(points), dtype=bool)
+        if np.any(inside):
+            i, j, k = np.asarray(grid.world_to_voxel(points[inside])).T
+            out[inside] = mask[i, j, k]
+        return out
+
     def _box_distance(self, points: NDArray[np.float64], name: str) -> NDArray[np.float64]:
         """Distance [m] of each point (N, 3) to ``name``'s box (0 inside), shape (N,)."""
-        lo, hi = self._aabb(name)
-        gap = np.maximum(np.maximum(lo - points, points - hi), 0.0)
-        return np.linalg.norm(gap, axis=1)
-
+        return box_gap(points, *self._aabb(name))
 
 def _call(fn: str, *args: Any, **kwargs: Any) -> str:
     """How a helper call reads in a report: ``moved('pink block', toward='right', cm=2)``."""
     parts = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items() if v is not None]
     return f"{fn}({', '.join(parts)})"
+
+
+__all__ = ["AWAY_CM", "HELPERS", "Condition", "IntentChecks", "IntentResult"]

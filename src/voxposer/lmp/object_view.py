@@ -19,6 +19,9 @@ _KEYS: Final = ("name", "position", "aabb", "occupancy", "normal", "position_wor
 class ObjectView(FieldMapping):
     """A detected object in voxel coordinates; also readable like a dict (``obj["position"]``).
 
+    Every detection is a fresh object: generated code may change its small arrays in place
+    (``obj.position[2] += 5``) without touching perception; ``occupancy`` is read-only.
+
     Attributes:
         name: the scene's name for it.
         position: voxel index of its centre, int, shape (3,).
@@ -47,15 +50,13 @@ class ObjectView(FieldMapping):
         def field(key: str) -> Any:
             return det[key] if isinstance(det, Mapping) else getattr(det, key)
 
-        pos = np.asarray(field("position"), float).reshape(3)
-        aabb = np.asarray(field("aabb"), float).reshape(2, 3)
-        normal = np.asarray(field("normal"), float).reshape(3)
+        pos = np.array(field("position"), float).reshape(3)
+        aabb = np.array(field("aabb"), float).reshape(2, 3)
+        normal = np.array(field("normal"), float).reshape(3)
         occ = np.asarray(field("occupancy"), bool)
-        arrays = (grid.world_to_voxel(pos, clip=True), grid.world_to_voxel(aabb, clip=True),
-                  occ, normal, pos, aabb)
-        for arr in arrays:
-            arr.flags.writeable = False
-        return cls(name, *arrays)
+        occ.flags.writeable = False  # large and shared with perception; the rest are copies
+        return cls(name, grid.world_to_voxel(pos, clip=True), grid.world_to_voxel(aabb, clip=True),
+                   occ, normal, pos, aabb)
 
 
     def __repr__(self) -> str:

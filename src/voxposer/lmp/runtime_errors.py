@@ -50,6 +50,6 @@ def describe(exc: BaseException) -> str:
     if isinstance(exc, SyntaxError) and not isinstance(exc, SandboxError):
         return f"SyntaxError: {exc.msg} (line {exc.lineno}: {(exc.text or '').strip()})"
     if isinstance(exc, ValueError) and "read-only" in str(exc):
-        return (f"{type(exc).__name__}: {exc} (a detected object's arrays cannot be changed: "
-                "copy one first, e.g. `p = obj.position.copy()`, and change the copy)")
+        return (f"{type(exc).__name__}: {exc} (a detected object's occupancy cannot be changed: "
+                "copy it first, e.g. `occ = obj.occupancy.copy()`, and change the copy)")
     return f"{type(exc).__name__}: {exc}"

@@ -57,7 +57,7 @@ class ColourDepthPerceiver:
         self._labels: PixelLabels | None = None
         self._known: dict[str, None] = dict.fromkeys(_FIXED)
         self._openings: dict[str, float] = {}
-        self._blocks: dict[str, NDArray[np.float64]] = {}
+        self._tracks: dict[str, NDArray[np.float64]] = {}
         #: time [ms] each labelling took (one per new observation)
         self.label_times_ms: list[float] = []
 
@@ -82,10 +82,10 @@ class ColourDepthPerceiver:
         obs = self.observe()
         if self._labels is None:
             start = time.perf_counter()
-            self._labels = label_pixels(obs, self._grid, self._openings, self._blocks)
+            self._labels = label_pixels(obs, self._grid, self._openings, self._tracks)
             self.label_times_ms.append((time.perf_counter() - start) * 1e3)
             self._openings.update(self._labels.openings)
-            self._blocks.update(self._labels.blocks)
+            self._tracks.update(self._labels.tracks)
             new = [n for n in self._labels.seen if n not in self._known]
             if new:
                 log.debug("colour-depth perception found: %s", ", ".join(new))

@@ -55,8 +55,9 @@ class PixelLabels:
         openings: drawer ("top", …) → measured opening [m] (drawers whose front was seen, or
             known from before).
         cabinet: whether the cabinet was found.
-        blocks: of the blocks and lines found, what tracks them next time: block name → its
-            centre [m], shape (3,); line name → its footprint
+        tracks: the tracks of the blocks and lines found, to find them again next time
+            (the gray block and line among other gray points): block name → its centre [m],
+            shape (3,); line name → its footprint
             (:func:`~voxposer.perception.colour_objects.line_prior`).
     """
 
@@ -64,7 +65,7 @@ class PixelLabels:
     seen: tuple[str, ...]
     openings: dict[str, float]
     cabinet: bool
-    blocks: dict[str, NDArray[np.float64]] = field(default_factory=dict)
+    tracks: dict[str, NDArray[np.float64]] = field(default_factory=dict)
 
 
 def colour_cloud(obs: Observation, grid: VoxelGrid) -> PointCloud:
@@ -90,29 +91,29 @@ def _gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
 
 def label_pixels(obs: Observation, grid: VoxelGrid,
                  prior_openings: dict[str, float] | None = None,
-                 prior_blocks: dict[str, NDArray[np.float64]] | None = None) -> PixelLabels:
+                 prior_tracks: dict[str, NDArray[np.float64]] | None = None) -> PixelLabels:
     """Catalog labels for the fused cloud of ``obs`` from its RGB and depth only.
 
     Args:
         obs: the observation (its ``object_ids`` are not read).
         grid: workspace grid the cloud is cropped to.
         prior_openings: drawer openings [m] measured before, for drawers hidden now.
-        prior_blocks: blocks and lines found before (:attr:`PixelLabels.blocks`), to track the
-            gray block and line when they join other gray points
-            (:mod:`voxposer.perception.colour_objects`).
+        prior_tracks: tracks of the blocks and lines found before
+            (:attr:`PixelLabels.tracks`), to follow the gray block and line when they join
+            other gray points (:mod:`voxposer.perception.colour_objects`).
     """
     colour_pts = colour_cloud(obs, grid)
     points, colours = colour_pts.points, colour_pts.labels
     labels = np.full(len(points), NO_OBJECT, dtype=np.int32)
     seen: list[str] = []
-    blocks: dict[str, NDArray[np.float64]] = {}
-    for name, idx in find_blocks_and_lines(points, colours, prior_blocks).items():
+    tracks: dict[str, NDArray[np.float64]] = {}
+    for name, idx in find_blocks_and_lines(points, colours, prior_tracks).items():
         labels[idx] = label_of(name)
         seen.append(name)
         if name.endswith(" block"):
-            blocks[name] = points[idx].mean(axis=0)
+            tracks[name] = points[idx].mean(axis=0)
         elif len(idx) >= 2:
-            blocks[name] = line_prior(points[idx])
+            tracks[name] = line_prior(points[idx])
     free = labels == NO_OBJECT
     achromatic = colours == GRAY
     hued = np.flatnonzero(free & ~achromatic)
@@ -130,7 +131,7 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
     labels[gripper] = label_of("gripper")
     seen += [n for n in ("table", "robot", "gripper") if np.any(labels == label_of(n))]
     cloud = PointCloud(points, colour_pts.normals, labels, colour_pts.colors, colour_pts.camera)
-    return PixelLabels(cloud, tuple(seen), dict(fit.openings), fit.present, blocks)
+    return PixelLabels(cloud, tuple(seen), dict(fit.openings), fit.present, tracks)
 
 
 __all__ = ["PixelLabels", "colour_cloud", "label_pixels"]

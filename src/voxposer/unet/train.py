@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.errors import ConfigError
+from voxposer.plotting import pyplot, save_figure
 from voxposer.unet._torch import nn, torch
 from voxposer.unet.checkpoint import save_checkpoint
 from voxposer.unet.dataset import Dataset, load_dataset
@@ -167,11 +168,7 @@ def train(data_dir: Path, out_dir: Path, config: TrainConfig | None = None,
 def write_losses(out: Path, step_losses: list[float], epoch_losses: list[float],
                  steps_per_epoch: int) -> Path:
     """``losses.json`` and the loss curve ``loss.png`` (log scale) in ``out``; returns the PNG."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot("the U-Net loss curve")
     out.mkdir(parents=True, exist_ok=True)
     (out / "losses.json").write_text(json.dumps({"step": step_losses, "epoch": epoch_losses}))
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -181,11 +178,7 @@ def write_losses(out: Path, step_losses: list[float], epoch_losses: list[float],
     ax.set(xlabel="epoch", ylabel="loss (normalised cost)", yscale="log",
            title="U-Net cost-map training")
     ax.legend()
-    fig.tight_layout()
-    path = out / "loss.png"
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save_figure(fig, out / "loss.png", dpi=100)
 
 
 __all__ = ["Batch", "Loss", "StepCallback", "TrainConfig", "TrainResult", "batch_from_arrays",

@@ -1,0 +1,106 @@
+"""Intent checks over the executed path: ``away`` between two objects' faces, ``passed_on`` (the
+side a path kept while passing a block) and ``speed`` (the end effector's measured speed,
+overall or near an object), on a box scene with constructed traces."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from voxposer.lmp import make_tabletop_scene
+from voxposer.lmp.api import LMPAPI
+from voxposer.lmp.intent import IntentChecks
+
+EE_SPEED = 0.25  # m/s at speed scale 1
+
+
+@pytest.fixture
+def checks() -> IntentChecks:
+    c = IntentChecks(LMPAPI(make_tabletop_scene()))
+    c.ee_speed = EE_SPEED
+    return c
+
+
+def helpers(checks: IntentChecks) -> dict:
+    return checks.namespace(lambda fn: fn)
+
+
+def line(a: np.ndarray, b: np.ndarray, n: int) -> np.ndarray:
+    return np.linspace(a, b, n)
+
+
+def executed(checks: IntentChecks, path: np.ndarray, dt: float = 0.02, entity: str = "gripper",
+             entity_path: np.ndarray | None = None) -> None:
+    checks.add_execution(SimpleNamespace(
+        trace=list(path), trace_time=list(np.arange(len(path)) * dt), entity=entity,
+        entity_path=path if entity_path is None else entity_path))
+
+
+def test_away_between_two_blocks_is_measured_between_their_faces(checks: IntentChecks) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    green = scene.detect("green block").position
+    checks.begin_subtask("push the blue block past the green block")
+    # the blue block's centre passes 8 cm from the green block's centre: 3 cm between faces
+    path = line(green + np.array([-0.2, 0.08, 0.0]), green + np.array([0.2, 0.08, 0.0]), 20)
+    executed(checks, path + np.array([0.0, 0.0, 0.05]), entity="blue block", entity_path=path)
+    assert not h["away"]("blue block", "green block").held  # default 5 cm
+    assert h["away"]("blue block", "green block", cm=2.5).held
+    assert "closest 3.0 cm" in h["away"]("blue block", "green block").measured
+
+
+def test_passed_on_a_side_needs_the_path_beyond_that_face_while_level(checks: IntentChecks
+                                                                       ) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    pink = scene.detect("pink block")
+    (lo, hi), c = pink.aabb, pink.position
+    checks.begin_subtask("move past the pink block on its left")
+    left = line(c + np.array([-0.3, -0.06, 0.0]), c + np.array([0.3, -0.06, 0.0]), 40)
+    executed(checks, left)
+    assert h["passed_on"]("gripper", "pink block", "left side").held
+    assert not h["passed_on"]("gripper", "pink block", "right side").held
+    checks.begin_subtask("move past the pink block, cutting through its right half")
+    executed(checks, left + np.array([0.0, 0.08, 0.0]))  # 2 cm right of its centre
+    cut = h["passed_on"]("gripper", "pink block", "left side")
+    assert not cut.held and "across" in cut.measured
+    checks.begin_subtask("never near it")
+    executed(checks, line(c + np.array([-0.3, 0.3, 0.0]), c + np.array([-0.2, 0.3, 0.0]), 10))
+    far = h["passed_on"]("gripper", "pink block", "left side")
+    assert not far.held and far.measured.startswith("never passed")
+    checks.begin_subtask("over the top")
+    over = line(c + np.array([-0.3, 0.0, hi[2] - c[2] + 0.04]),
+                c + np.array([0.3, 0.0, hi[2] - c[2] + 0.04]), 40)
+    executed(checks, over)
+    assert h["passed_on"]("gripper", "pink block", "top").held
+    assert lo[2] < hi[2]
+
+
+def test_speed_reads_the_median_speed_over_the_default(checks: IntentChecks) -> None:
+    h = helpers(checks)
+    checks.begin_subtask("move slowly")
+    step = EE_SPEED * 0.25 * 0.02  # a quarter of the default speed at 50 Hz
+    executed(checks, np.array([-0.3, 0.0, 0.2]) + np.outer(np.arange(120), [step, 0.0, 0.0]))
+    assert h["speed"]("gripper", 0.25).held
+    assert not h["speed"]("gripper", 1.0).held
+    assert not h["speed"]("gripper", 2).held
+    assert "0.25x default" in h["speed"]("gripper", 0.25).measured
+
+
+def test_speed_near_an_object_counts_only_the_zone(checks: IntentChecks) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    green = scene.detect("green block").position
+    start = green + np.array([-1.1, 0.0, 0.03])
+    fast = start + np.outer(np.arange(200), [EE_SPEED * 0.02, 0.0, 0.0])  # 1 m at 1x, far
+    slow = fast[-1] + np.outer(np.arange(1, 101), [EE_SPEED * 0.25 * 0.02, 0.0, 0.0])  # 12 cm
+    checks.begin_subtask("slow near the green block")
+    executed(checks, np.vstack([fast, slow]))
+    assert h["speed"]("gripper", 0.25, near="green block", cm=5).held
+    assert not h["speed"]("gripper", 1.0, near="green block", cm=5).held
+    assert h["speed"]("gripper", 1.0).held  # over the whole path most of it ran at 1x
+    assert h["speed"]("gripper", 1.0, near="blue block", cm=5).measured.startswith("hardly")
+
+def test_speed_without_the_robots_default_speed_is_not_evaluated() -> None:
+    checks = IntentChecks(LMPAPI(make_tabletop_scene()))
+    cond = helpers(checks)["speed"]("gripper", 0.5)
+    assert cond.error and not cond.held and "default speed is unknown" in cond.measured
