@@ -30,6 +30,7 @@ class KinematicRobot:
     speed scale) straight toward each commanded position and can never enter y > ``wall_y``."""
 
     control_period = 0.02
+    ee_speed = 0.25  # [m/s] at speed scale 1
 
     def __init__(self, start: ArrayLike, wall_y: float = np.inf) -> None:
         self.position = np.asarray(start, dtype=float)

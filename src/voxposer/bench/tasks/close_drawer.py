@@ -12,6 +12,7 @@ import numpy as np
 
 from voxposer.bench.attributes import DEIXIS_DRAWER
 from voxposer.bench.config import Tolerances
+from voxposer.bench.primitives_programs import primitives_program
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask
@@ -19,6 +20,12 @@ from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 
 OPENING_M = (0.10, 0.18)
+#: A closed drawer whose handle shows where the named one's goes when closed (the nearest
+#: drawer may be hidden under the open one).
+CLOSED_REFERENCE = {"top": "bottom", "middle": "top", "bottom": "top"}
+#: The baseline's fingertips: this far in front of the handle before the push, and this far
+#: short of the closed handles' front face at its end [m].
+PRIM_APPROACH_M, PRIM_SHORT_M = 0.06, 0.015
 
 
 class CloseDrawer(BenchTask):
@@ -49,6 +56,27 @@ class CloseDrawer(BenchTask):
         progs = Programs()
         subtask = push_handle_programs(progs, DEIXIS_DRAWER[attrs["deixis"]])
         return one_subtask(progs, self.instruction(attrs), subtask, reset=True)
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        which = DEIXIS_DRAWER[attrs["deixis"]]
+        return primitives_program(self.instruction(attrs), push_drawer_lines(which))
+
+
+def push_drawer_lines(which: str) -> list[str]:
+    """Baseline code closing the ``which`` drawer: the hand turned to point its closed fingers
+    at the cabinet (+y, the hand's length along x, so that it clears the table and the drawers
+    above), in front of the handle at its height, pushes it in +y until it is level with a
+    closed drawer's handle, then backs off."""
+    return [
+        f"handle = detect('{which} drawer handle')",
+        f"closed = detect('{CLOSED_REFERENCE[which]} drawer handle')",
+        "x, z = handle.position[0], handle.position[2]",
+        "rotate_by_quat(np.array([0.5, 0.5, -0.5, 0.5]))",
+        "close_gripper()",
+        f"move_to_pos(np.array([x, handle.aabb[0][1] - {PRIM_APPROACH_M}, z]))",
+        f"move_to_pos(np.array([x, closed.aabb[0][1] - {PRIM_SHORT_M}, z]))",
+        f"move_to_pos(np.array([x, closed.aabb[0][1] - {PRIM_APPROACH_M + 0.04:.2f}, z]))",
+    ]
 
 
 def push_handle_programs(progs: Programs, which: str) -> str:

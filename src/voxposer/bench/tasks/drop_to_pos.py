@@ -12,6 +12,11 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import block_at_place
+from voxposer.bench.primitives_programs import (
+    carry_and_drop_lines,
+    grasp_lines,
+    primitives_program,
+)
 from voxposer.bench.programs import Programs, affordance_at_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, gripper_composer, place_query
@@ -54,6 +59,10 @@ class DropToPos(BenchTask):
         progs.add("planner", self.instruction(attrs), *(f"composer('{s}')" for s in subtasks))
         progs.add("composer", "back to default pose", "reset_to_default_pose()")
         return grasp_programs(progs, obj)
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        return primitives_program(self.instruction(attrs), [
+            *grasp_lines(attrs["obj"]), *carry_and_drop_lines(get_place(attrs["pos"]))])
 
 
 def carry_and_release_programs(progs: Programs, obj: str, place: Place) -> list[str]:

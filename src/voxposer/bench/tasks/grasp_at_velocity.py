@@ -14,6 +14,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import BLOCK_HALF, VELOCITY_SCALE, sample_xy, speed_clause
+from voxposer.bench.primitives_programs import grasp_lines, primitives_program
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, gripper_composer
@@ -89,3 +90,7 @@ class GraspAtVelocity(BenchTask):
                                "composer('back to default pose')")
         progs.add("composer", "back to default pose", "reset_to_default_pose()")
         return grasp_programs(progs, obj, vel, blind=blind)
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        return primitives_program(self.instruction(attrs), grasp_lines(
+            attrs["obj"], VELOCITY_SCALE[attrs["velocity"]]))

@@ -20,6 +20,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import BLOCK_HALF, block_distance, ee_at_place
+from voxposer.bench.primitives_programs import BACK_X_M, place_target, primitives_program
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
@@ -41,6 +42,11 @@ AVOID_MARGIN_CM = 5
 #: close enough that the line passes within [dist] of its faces, far enough that a correct
 #: avoidance map's detour stays short.
 LATERAL = (0.3, 0.6)
+#: The baseline's hand goes round the block through two points this far beyond [dist] from
+#: its side face, and this far before and past its centre along the way [m] …
+PRIM_AROUND_M = (0.04, 0.04)
+#: … or over it, this far above its top beyond [dist] [m].
+PRIM_OVER_M = 0.05
 
 
 class MinDistance(BenchTask):
@@ -90,3 +96,39 @@ class MinDistance(BenchTask):
                          f"block = parse_query_obj('{obj}')",
                          f"set_voxel_by_radius(avoidance_map, block.position, "
                          f"{dist + AVOID_MARGIN_CM}, 1)", "ret_val = avoidance_map")
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        place, obj, dist = get_place(attrs["pos"]), attrs["obj"], int(attrs["dist"]) / 100
+        path = _over_lines(dist) if place.point[0] < BACK_X_M else _around_lines(dist)
+        return primitives_program(self.instruction(attrs), [
+            f"block = detect('{obj}')", "hand = detect('gripper')",
+            f"target = {place_target(place)}", *path, "move_to_pos(target)"])
+
+
+def _around_lines(dist: float) -> list[str]:
+    """Baseline code going round the block at the place's height, through two points ``dist``
+    [m] + margin beyond its side face, on the side of the way away from it (over it instead
+    when those points lie near the base)."""
+    over = "\n".join("    " + line for line in _over_lines(dist))
+    return [
+        "b, s = block.position[:2], hand.position[:2]",
+        "u = (target[:2] - s) / np.linalg.norm(target[:2] - s)",
+        "n = np.array([-u[1], u[0]])",
+        "if np.dot(b - s, n) > 0:",
+        "    n = -n",
+        f"r = {BLOCK_HALF} + {dist:g} + {PRIM_AROUND_M[0]}",
+        f"points = [b + r * n - {PRIM_AROUND_M[1]} * u, b + r * n + {PRIM_AROUND_M[1]} * u]",
+        f"if min(points[0][0], points[1][0]) < {BACK_X_M}:",
+        over,
+        "else:",
+        "    for p in points:",
+        "        move_to_pos(np.array([p[0], p[1], target[2]]))"]
+
+
+def _over_lines(dist: float) -> list[str]:
+    """Baseline code going over the block ``dist`` [m] + margin above its top (up where the
+    hand stands, across, then down at the place): near the base, where the hand swings when it
+    moves across in front of it low."""
+    return [f"z = block.aabb[1][2] + {dist:g} + {PRIM_OVER_M}",
+            "move_to_pos(np.array([hand.position[0], hand.position[1], z]))",
+            "move_to_pos(np.array([target[0], target[1], z]))"]

@@ -13,6 +13,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import BLOCK_HALF, sample_xy
+from voxposer.bench.primitives_programs import primitives_program, vec
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, clear_at, gripper_composer, one_subtask
@@ -24,6 +25,9 @@ SIDES = {"left of": (1, -1, "left"), "right of": (1, 1, "right"), "front side of
          "back side of": (0, -1, "back"), "top of": (2, 1, "top")}
 #: How far beside the block a correct program aims [cm].
 OFFSET_CM = 5
+#: The baseline's target from the block's centre [m]: beside it (this far from the centre
+#: along the side's axis, this high) or above it (this high).
+PRIM_BESIDE_M, PRIM_BESIDE_Z_M, PRIM_ABOVE_M = 0.08, 0.03, 0.08
 
 
 def beside_verdict(ee: np.ndarray, block: np.ndarray, preposition: str,
@@ -85,3 +89,21 @@ class MoveToPreposition(BenchTask):
                          f"x, y, z = point_beside(block, '{word}', {OFFSET_CM})",
                          "affordance_map[x, y, z] = 1",
                          "ret_val = affordance_map")
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        return primitives_program(self.instruction(attrs),
+                                  beside_lines(attrs["obj"], attrs["preposition"]))
+
+
+def beside_lines(obj: str, preposition: str) -> list[str]:
+    """Baseline code moving the fingertips to the ``preposition`` side of ``obj``: down from
+    10 cm above the point beside it, fingers closed (they would straddle its face open)."""
+    axis, sign, _ = SIDES[preposition]
+    offset = [0.0, 0.0, PRIM_ABOVE_M] if axis == 2 else [0.0, 0.0, PRIM_BESIDE_Z_M]
+    if axis < 2:
+        offset[axis] = sign * PRIM_BESIDE_M
+    lines = [f"block = detect('{obj}')", f"target = block.position + {vec(*offset)}"]
+    if axis == 2:
+        return [*lines, "move_to_pos(target)"]
+    return [*lines, "close_gripper()", "move_to_pos(target + np.array([0.0, 0.0, 0.10]))",
+            "move_to_pos(target)"]

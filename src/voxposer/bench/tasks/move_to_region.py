@@ -12,6 +12,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import ee_at_place
+from voxposer.bench.primitives_programs import move_to_place, primitives_program
 from voxposer.bench.programs import Programs, affordance_at_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, clear_at, gripper_composer, one_subtask
@@ -47,3 +48,6 @@ class MoveToRegion(BenchTask):
         progs = one_subtask(Programs(), self.instruction(attrs), subtask, reset=False)
         gripper_composer(progs, subtask, {"affordance": query})
         return progs.add("get_affordance_map", query, *affordance_at_place(place, HOVER_CM))
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        return primitives_program(self.instruction(attrs), move_to_place(get_place(attrs["region"])))

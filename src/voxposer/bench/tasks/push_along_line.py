@@ -23,6 +23,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import sample_xy
+from voxposer.bench.primitives_programs import primitives_program, push_lines
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, segment_clear
@@ -133,3 +134,16 @@ class PushAlongLine(BenchTask):
 
     def reference(self, attrs: dict[str, str]) -> Programs:
         return self._programs(attrs, blind=False)
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        obj, line = attrs["obj"], attrs["line"]
+        return primitives_program(self.instruction(attrs), [
+            f"line = detect('{line}')", f"block = detect('{obj}')",
+            "lo, hi = line.aabb",
+            "k = 0 if hi[0] - lo[0] > hi[1] - lo[1] else 1",  # the line's axis
+            "u = np.zeros(2)", "u[k] = 1.0",
+            "half = (hi[k] - lo[k]) / 2",
+            "s = np.sign(block.position[k] - line.position[k])",  # toward its near end
+            f"entry = line.position[:2] + s * (half - {ENTRY_CM / 100}) * u",
+            "far = line.position[:2] - s * half * u",
+            *push_lines(obj, ["entry", "far"])])

@@ -18,17 +18,32 @@ from typing import Any
 import numpy as np
 
 from voxposer.bench.config import Tolerances
-from voxposer.bench.measures import block_at_place, max_displacement
+from voxposer.bench.measures import BASE_XY, block_at_place, max_displacement
+from voxposer.bench.primitives_programs import (
+    PUSH_BACK_M,
+    primitives_program,
+    push_goal,
+    push_lines,
+    vec,
+)
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clear, toward
 from voxposer.bench.tasks.push_to_pos import push_programs, push_start
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
-from voxposer.places import get_place
+from voxposer.places import Place, get_place
 
 #: how far the obstacle's centre sits off the middle of the straight push [m].
 OBSTACLE_OFFSET_M = (0.0, 0.02)
+#: The baseline's detour: the block is pushed sideways this far off the straight push, along it
+#: past the obstacle, and back onto the place [m]; on the side whose waypoints lie farther
+#: inside this range of distances from the robot's base [m] (the hand reaches the table there).
+DETOUR_M = 0.14
+REACH_M = (0.36, 0.68)
+#: Where the baseline leaves a block pushed to a corner: this far beside its point, away from
+#: the obstacle [m] (inside the corner's radius).
+CORNER_OFFSET_M = 0.04
 
 
 class PushAvoidObstacle(BenchTask):
@@ -75,3 +90,34 @@ class PushAvoidObstacle(BenchTask):
 
     def blind(self, attrs: dict[str, str]) -> Programs:
         return self.reference(attrs, blind=True)
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        obj, place = attrs["obj"], get_place(attrs["pos"])
+        return primitives_program(self.instruction(attrs), [
+            f"block = detect('{obj}')", f"obstacle = detect('{attrs['obstacle']}')",
+            f"goal = {push_goal(place)}",
+            "d = goal - block.position[:2]",
+            "n = np.array([-d[1], d[0]]) / np.linalg.norm(d)",
+            # the obstacle stands on the straight push: go round it, DETOUR_M off the line, on
+            # the side whose waypoints (and where the hand starts the first push) stay farther
+            # inside the arm's reach from its base
+            f"base = {vec(*BASE_XY)}",
+            f"r = [np.linalg.norm(p - base) for s in (1, -1) for p in (block.position[:2] + s "
+            f"* {DETOUR_M} * n, goal + s * {DETOUR_M} * n, block.position[:2] - s * "
+            f"{PUSH_BACK_M} * n)]",
+            f"inside = [min(d - {REACH_M[0]}, {REACH_M[1]} - d) for d in r]",
+            "if min(inside[:3]) < min(inside[3:]):",
+            "    n = -n",
+            *_last_goal(place),
+            *push_lines(obj, [f"block.position[:2] + {DETOUR_M} * n", f"goal + {DETOUR_M} * n",
+                              "last"])])
+
+
+def _last_goal(place: Place) -> list[str]:
+    """Baseline code setting ``last``, where the detour leaves the block: a corner's goal
+    ``CORNER_OFFSET_M`` beside it (away from the obstacle); for a side, where the detour ends,
+    no shallower in the side than its goal."""
+    if place.kind == "corner":
+        return [f"last = goal + {CORNER_OFFSET_M} * n"]
+    k, deeper = place.axis, "max" if place.sign > 0 else "min"
+    return [f"last = goal + {DETOUR_M} * n", f"last[{k}] = {deeper}(last[{k}], goal[{k}])"]

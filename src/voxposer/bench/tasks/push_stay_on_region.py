@@ -18,6 +18,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import max_displacement, sample_xy
+from voxposer.bench.primitives_programs import primitives_program, push_lines, vec
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clear
@@ -36,6 +37,8 @@ START = {"right side of the table": ((-0.30, 0.18), (-0.12, 0.21), "front", 0.0)
 #: Where the constraint-blind control pushes the block: the middle of the reachable table [m].
 MIDDLE = (-0.19, 0.0)
 STEP = {"front": (1.0, 0.0), "right": (0.0, 1.0)}
+#: How far the baseline pushes the block along the region's boundary [m].
+PRIM_PUSH_M = 0.12
 
 
 class PushStayOnRegion(BenchTask):
@@ -84,6 +87,13 @@ class PushStayOnRegion(BenchTask):
                          "table = parse_query_obj('table')", "lo, hi = table.aabb",
                          f"{coord} = int(round(lo[{axis}] + {frac} * (hi[{axis}] - lo[{axis}])))",
                          "affordance_map[x, y, z] = 1", "ret_val = affordance_map")
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        obj, word = attrs["obj"], START[attrs["region"]][2]
+        step = vec(*(PRIM_PUSH_M * c for c in STEP[word]))
+        return primitives_program(self.instruction(attrs), [
+            f"start = detect('{obj}').position[:2]",
+            *push_lines(obj, [f"start + {step}"])])
 
     def blind(self, attrs: dict[str, str]) -> Programs:
         obj = attrs["obj"]

@@ -13,6 +13,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import block_at_place, sample_xy
+from voxposer.bench.primitives_programs import primitives_program, push_goal, push_lines
 from voxposer.bench.programs import Programs, affordance_place_for_block
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clear
@@ -83,3 +84,7 @@ class PushToPos(BenchTask):
         progs = one_subtask(Programs(), self.instruction(attrs),
                             f"push the {obj} to the {place.name}", reset=True)
         return push_programs(progs, obj, place)
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        return primitives_program(self.instruction(attrs),
+                                  push_lines(attrs["obj"], [push_goal(get_place(attrs["pos"]))]))

@@ -26,6 +26,7 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import BLOCK_HALF, ee_at_place
+from voxposer.bench.primitives_programs import place_target, primitives_program, vec
 from voxposer.bench.programs import Programs, affordance_at_place
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
@@ -63,6 +64,9 @@ TOP_LATERAL_M = (0.01, 0.02)
 TOP_START_Z = 0.04
 #: Height of the place a correct program aims for [cm].
 HEIGHT_CM = 5
+#: The baseline passes the block through two points this far before and past its centre along
+#: the way, this far beyond the named face (beside it) or above its top ("top of") [m].
+PRIM_ALONG_M, PRIM_BEYOND_M, PRIM_ABOVE_M = 0.06, 0.04, 0.03
 
 
 def _directions(prep: str) -> tuple[tuple[float, float], ...] | None:
@@ -159,6 +163,26 @@ class StayingOnPreposition(BenchTask):
 
     def blind(self, attrs: dict[str, str]) -> Programs:
         return self._programs(attrs, blind=True)
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        axis, sign, _ = SIDES[attrs["preposition"]]
+        if axis == 2:  # over the top face
+            offset = f"np.array([0.0, 0.0, block.aabb[1][2] + {PRIM_ABOVE_M} - z])"
+        else:  # beyond the named face, at the hand's height
+            side = [0.0, 0.0, 0.0]
+            side[axis] = sign * (BLOCK_HALF + PRIM_BEYOND_M)
+            offset = vec(*side)
+        return primitives_program(self.instruction(attrs), [
+            f"block = detect('{attrs['obj']}')", "hand = detect('gripper')",
+            f"target = {place_target(get_place(attrs['pos']))}",
+            "u = target[:2] - hand.position[:2]", "u = u / np.linalg.norm(u)",
+            # the hand's height: its fingertips 1.2 cm above its box's bottom
+            "z = hand.aabb[0][2] + 0.012",
+            "close_gripper()",
+            *(f"move_to_pos(np.array([block.position[0] {s} {PRIM_ALONG_M} * u[0], "
+              f"block.position[1] {s} {PRIM_ALONG_M} * u[1], z]) + {offset})"
+              for s in "-+"),
+            "move_to_pos(target)"])
 
     def reference(self, attrs: dict[str, str]) -> Programs:
         return self._programs(attrs, blind=False)

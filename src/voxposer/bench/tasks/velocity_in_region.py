@@ -13,12 +13,17 @@ import numpy as np
 
 from voxposer.bench.config import Tolerances
 from voxposer.bench.measures import VELOCITY_SCALE, ee_at_place, speed_clause
+from voxposer.bench.primitives_programs import place_target, primitives_program
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, clear_at, move_to_place_programs
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
 from voxposer.places import get_place
+
+#: The baseline sets the speed this far outside the region's boundary [m] (on the straight way
+#: in, perpendicular to it).
+PRIM_BEFORE_M = 0.05
 
 
 class VelocityInRegion(BenchTask):
@@ -61,3 +66,13 @@ class VelocityInRegion(BenchTask):
                          "table = parse_query_obj('table')",
                          f"velocity_map[region_mask(table, '{region.words}')] = "
                          f"{VELOCITY_SCALE[vel]}", "ret_val = velocity_map")
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        place, region = get_place(attrs["pos"]), get_place(attrs["region"])
+        k, edge = region.axis, region.bound - region.sign * PRIM_BEFORE_M
+        return primitives_program(self.instruction(attrs), [
+            f"target = {place_target(place)}",
+            # at the default speed to just outside the region, then into it at the velocity
+            "before = target.copy()", f"before[{k}] = {edge:g}",
+            "move_to_pos(before)", f"set_vel({VELOCITY_SCALE[attrs['velocity']]:g})",
+            "move_to_pos(target)", "set_vel(1.0)"])

@@ -21,7 +21,14 @@ from typing import Any
 import numpy as np
 
 from voxposer.bench.config import Tolerances
-from voxposer.bench.measures import VELOCITY_SCALE, block_distance, ee_at_place, speed_clause
+from voxposer.bench.measures import (
+    BLOCK_HALF,
+    VELOCITY_SCALE,
+    block_distance,
+    ee_at_place,
+    speed_clause,
+)
+from voxposer.bench.primitives_programs import place_target, primitives_program
 from voxposer.bench.programs import Programs
 from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import (
@@ -40,6 +47,9 @@ from voxposer.places import get_place
 #: is centred on the block, the distance counts from its faces) plus 5 cm, so the speed has
 #: changed on entry [cm].
 ZONE_MARGIN_CM = 8
+#: The baseline changes speed this far beyond [dist] from the block's side faces [m]; between
+#: those points it passes over the block this far above its top [m].
+PRIM_SWITCH_M, PRIM_OVER_M = 0.03, 0.025
 
 
 class VelocityNearObj(BenchTask):
@@ -88,3 +98,28 @@ class VelocityNearObj(BenchTask):
                          f"set_voxel_by_radius(velocity_map, block.position, "
                          f"{int(dist) + ZONE_MARGIN_CM}, {VELOCITY_SCALE[vel]})",
                          "ret_val = velocity_map")
+
+    def primitives_reference(self, attrs: dict[str, str]) -> Programs:
+        place, obj, dist = get_place(attrs["pos"]), attrs["obj"], int(attrs["dist"]) / 100
+        vel = VELOCITY_SCALE[attrs["velocity"]]
+        return primitives_program(self.instruction(attrs), [
+            f"block = detect('{obj}')", "hand = detect('gripper')",
+            f"target = {place_target(place)}",
+            "b, s, t = block.position[:2], hand.position[:2], target[:2]",
+            "u = (t - s) / np.linalg.norm(t - s)",
+            f"z = block.aabb[1][2] + {PRIM_OVER_M}",
+            # the speed changes r from the block's centre, on the way in and on the way out
+            f"r = {BLOCK_HALF} + {dist:g} + {PRIM_SWITCH_M}",
+            "if np.linalg.norm(s - b) > r:",
+            "    p = b - r * u",
+            "    move_to_pos(np.array([p[0], p[1], z]))",
+            f"    set_vel({vel:g})",
+            "else:",
+            f"    set_vel({vel:g})",
+            "    move_to_pos(np.array([s[0], s[1], z]))",
+            "if np.linalg.norm(t - b) > r:",
+            "    p = b + r * u",
+            "    move_to_pos(np.array([p[0], p[1], z]))",
+            "    set_vel(1.0)",
+            "move_to_pos(target)",
+            "set_vel(1.0)"])
