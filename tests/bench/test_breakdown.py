@@ -143,11 +143,22 @@ def test_a_run_continues_where_its_attributions_stopped(tmp_path: Path, world) -
         load_run(tmp_path / "missing")
 
 
-def test_a_method_without_reference_programs_says_so(world) -> None:
-    # LLM + Primitives: no task has hand-written primitive programs yet
-    rec = {"task": "move_to_region", "split": "seen", "seed": 0, "method": "llm_primitives",
-           "llm": "default", "instructions": "seen", "seed_set": "dev", "success": False,
-           "programs": [{"lmp": "llm_primitives", "query": "q", "code": "pass"}]}
-    a = attribute(rec, world)
+def _primitives_record() -> dict:
+    # an LLM + Primitives program that does nothing (the task is not done)
+    return {"task": "move_to_region", "split": "seen", "seed": 0, "method": "llm_primitives",
+            "llm": "default", "instructions": "seen", "seed_set": "dev", "success": False,
+            "programs": [{"lmp": "llm_primitives", "query": "q", "code": "pass"}]}
+
+
+def test_an_llm_primitives_failure_is_fixed_by_its_reference_program(world) -> None:
+    a = attribute(_primitives_record(), world)
+    assert a.cause == "specification", a.note
+
+
+def test_a_method_without_reference_programs_says_so(world, monkeypatch) -> None:
+    from voxposer.bench.tasks.move_to_region import MoveToRegion
+
+    monkeypatch.setattr(MoveToRegion, "primitives_reference", lambda self, attrs: None)
+    a = attribute(_primitives_record(), world)
     assert a.cause == "unresolved"
     assert "could not be replaced" in a.note and "no reference programs" in a.note, a.note

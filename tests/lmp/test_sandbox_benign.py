@@ -88,6 +88,7 @@ def test_every_prompt_example_runs(sandbox: Sandbox, api: LMPAPI, lmp: str, inde
                                    code: str) -> None:
     namespace = _namespace(api, lmp)
     intent = IntentChecks(api)
+    intent.ee_speed = 0.25  # [m/s]: speed(...) conditions are evaluated (no path: not held)
     if lmp == "planner":  # the post-condition helpers, evaluated on the fixed scene
         namespace.update(intent.namespace(lambda fn: fn))
     out = sandbox.run(extract_code(code), namespace)
