@@ -54,7 +54,7 @@ def test_passed_on_a_side_needs_the_path_beyond_that_face_while_level(checks: In
                                                                        ) -> None:
     h, scene = helpers(checks), checks.api.scene
     pink = scene.detect("pink block")
-    (lo, hi), c = pink.aabb, pink.position
+    (_, hi), c = pink.aabb, pink.position
     checks.begin_subtask("move past the pink block on its left")
     left = line(c + np.array([-0.3, -0.06, 0.0]), c + np.array([0.3, -0.06, 0.0]), 40)
     executed(checks, left)
@@ -73,7 +73,9 @@ def test_passed_on_a_side_needs_the_path_beyond_that_face_while_level(checks: In
                 c + np.array([0.3, 0.0, hi[2] - c[2] + 0.04]), 40)
     executed(checks, over)
     assert h["passed_on"]("gripper", "pink block", "top").held
-    assert lo[2] < hi[2]
+    checks.begin_subtask("through it, level with its middle")
+    executed(checks, over - np.array([0.0, 0.0, hi[2] - c[2] + 0.04]))
+    assert not h["passed_on"]("gripper", "pink block", "top").held
 
 
 def test_speed_reads_the_median_speed_over_the_default(checks: IntentChecks) -> None:
