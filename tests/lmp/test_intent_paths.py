@@ -102,6 +102,22 @@ def test_speed_near_an_object_counts_only_the_zone(checks: IntentChecks) -> None
     assert h["speed"]("gripper", 1.0).held  # over the whole path most of it ran at 1x
     assert h["speed"]("gripper", 1.0, near="blue block", cm=5).measured.startswith("hardly")
 
+def test_speed_over_a_table_part_counts_only_that_part(checks: IntentChecks) -> None:
+    h = helpers(checks)
+    fast = line(np.array([0.05, 0.0, 0.1]), np.array([-0.1, 0.0, 0.1]), 31)  # 5 mm at 50 Hz: 1x
+    slow = line(fast[-1], np.array([-0.45, 0.0, 0.1]), 281)[1:]  # 1.25 mm per step: 0.25x
+    checks.begin_subtask("slow over the back side")
+    executed(checks, np.vstack([fast, slow]))
+    assert h["speed"]("gripper", 0.25, inside="back side").held
+    assert not h["speed"]("gripper", 1.0, inside="back side").held
+    assert not h["speed"]("gripper", 0.25, inside="front side").held
+    # ``side`` is the same argument under the name people (and the model) use for it
+    assert h["speed"]("gripper", 0.25, side="back side").held
+    assert "over the back side" in h["speed"]("gripper", 0.25, side="back side").measured
+    both = h["speed"]("gripper", 0.25, inside="back side", side="front side")
+    assert both.error and "two table parts" in both.measured
+
+
 def test_speed_without_the_robots_default_speed_is_not_evaluated() -> None:
     checks = IntentChecks(LMPAPI(make_tabletop_scene()))
     cond = helpers(checks)["speed"]("gripper", 0.5)

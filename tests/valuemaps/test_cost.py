@@ -3,6 +3,8 @@ import pytest
 
 from voxposer.errors import ConfigError, EmptyAffordanceError, InvalidMapError, OutOfWorkspaceError
 from voxposer.valuemaps import CostMapConfig, ValueMapAPI, VoxelGrid, compose_cost_map
+from voxposer.valuemaps.cost import without_keep_out
+from voxposer.valuemaps.keep_out import keep_out
 from voxposer.valuemaps.voxel_ops import pool_max
 
 GRID = VoxelGrid((0, 0, 0), (1, 1, 1), (100, 100, 100))
@@ -145,3 +147,42 @@ def test_target_distance_equals_the_distance_transform(count: int) -> None:
     np.testing.assert_allclose(
         distance_to(mask, vox), ndimage.distance_transform_edt(~mask), atol=1e-4
     )
+
+
+@pytest.mark.parametrize(("shape", "factor"), [((100, 100, 100), 2), ((9, 7, 5), 2), ((10, 8, 7), 3)])
+def test_pool_max_is_the_block_maximum(shape, factor) -> None:
+    rng = np.random.default_rng(3)
+    vol = rng.normal(size=shape).astype(np.float32)
+    padded_shape = tuple(-(-n // factor) * factor for n in shape)
+    padded = np.full(padded_shape, vol.min(), np.float32)
+    padded[: shape[0], : shape[1], : shape[2]] = vol
+    a, b, c = (n // factor for n in padded_shape)
+    expected = padded.reshape(a, factor, b, factor, c, factor).max(axis=(1, 3, 5))
+    assert np.array_equal(pool_max(vol, factor), expected)
+    assert np.array_equal(pool_max(vol > 0.5, factor), expected > 0.5)
+
+
+def test_keep_out_from_the_pooled_map_equals_pooling_the_core() -> None:
+    rng = np.random.default_rng(4)
+    avoid = rng.random(GRID.shape).astype(np.float32) ** 4
+    for start in (START, np.array([0.5, 0.5, 0.5])):
+        fine_core = avoid >= 0.5 * avoid.max()
+        direct = keep_out(GRID, avoid, start, 0.5, 2)
+        assert np.array_equal(direct, keep_out(GRID, avoid, start, 0.5, 2, pool_max(avoid, 2)))
+        if avoid[tuple(GRID.world_to_voxel(start))] < 0.5 * avoid.max():
+            assert np.array_equal(direct, pool_max(fine_core, 2))
+
+
+def test_the_soft_fallback_map_equals_composing_without_the_core() -> None:
+    avoid = API.get_empty_avoidance_map()
+    API.set_voxel_by_radius(avoid, [50, 50, 50], 15, 1.0)
+    occ = np.zeros(GRID.shape, bool)
+    occ[40:44, 20:80, 20:80] = True
+    cmap = compose_cost_map(GRID, _affordance(), START, avoid, occ)
+    soft = compose_cost_map(GRID, _affordance(), START, avoid, occ,
+                            config=CostMapConfig(avoidance_keep_out=0.0))
+    fallback = without_keep_out(cmap)
+    assert cmap.obstacles.sum() > soft.obstacles.sum()  # the core was an obstacle
+    assert np.array_equal(fallback.obstacles, soft.obstacles)
+    assert np.array_equal(fallback.cost, soft.cost)
+    assert fallback.config == soft.config

@@ -256,12 +256,16 @@ class IntentChecks:
                                      f"{word} its {side} face at worst ({passed.level} points)")
 
     def speed(self, obj: str, scale: float, near: str | None = None, cm: float = NEAR_CM,
-              inside: str | None = None) -> Condition:
+              inside: str | None = None, side: str | None = None) -> Condition:
         """In the last sub-task the end effector (``obj``: "gripper", or what it carries) moved
         at about ``scale`` times its default speed (the median, in the band of
         :func:`~voxposer.lmp.intent_paths.speed_band`: ±1.6x, a speed-up at least partly), counting
         only where it was within ``cm`` [cm] of ``near``'s box, or over the ``inside`` part
-        of the table ("back side"), when given."""
+        of the table ("back side"; ``side`` is another name for it), when given."""
+        if side is not None and inside is not None and side != inside:
+            raise ConfigError(f"speed(): inside={inside!r} and side={side!r} name two table "
+                              "parts; give one")
+        inside = inside if inside is not None else side
         text = _call("speed", obj, scale, near=near, cm=cm if near else None, inside=inside)
         if self.ee_speed is None:
             raise ConfigError("the robot's default speed is unknown here")

@@ -22,7 +22,7 @@ from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.planning.planner_config import PlanMethod, PlannerConfig
 from voxposer.planning.search import astar, greedy_descent
 from voxposer.planning.trajectory import Trajectory, collides, extract_trajectory, resample, smooth
-from voxposer.valuemaps.cost import CostMap, CostMapConfig, compose_cost_map
+from voxposer.valuemaps.cost import CostMap, CostMapConfig, compose_cost_map, without_keep_out
 from voxposer.valuemaps.maps import check_value_map
 
 
@@ -190,10 +190,7 @@ class PathPlanner:
         except (StartBlockedError, TargetUnreachableError):
             if avoidance_map is None or cost_cfg.avoidance_keep_out <= 0:
                 raise
-        soft = replace(cost_cfg, avoidance_keep_out=0.0)
-        cmap = compose_cost_map(
-            self.grid, affordance_map, start, avoidance_map, occupancy, entity_occupancy, soft,
-            layer_z=layer_z)
+        cmap = without_keep_out(cmap, layer_z)
         return cmap, self._find_path(cmap), t1
 
     def _find_path(self, cmap: CostMap) -> tuple[NDArray[np.int64], float, bool]:

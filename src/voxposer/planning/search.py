@@ -11,20 +11,34 @@ the distance to the nearest target (as :func:`voxposer.valuemaps.cost.compose_co
 from distance ``d`` any path pays at least ``length_weight * d + (w / d_max) * (d - √3)² / 2``.
 So A* returns the lowest-cost path, not merely a good one.
 
-The search runs in a numba-compiled kernel (compiled once, cached on disk): a Python-level A* on
-a 50³ grid is ~100× slower, and scikit-image's MCP (Dijkstra, no heuristic) measured 56 ms at 50³
-and 920 ms at 100³ on 2 cores against a 25 ms budget for the whole planner.
+The search runs in a numba-compiled kernel (:mod:`voxposer.planning.search_kernel`): a
+Python-level A* on a 50³ grid is ~100× slower, and scikit-image's MCP (Dijkstra, no heuristic)
+measured 56 ms at 50³ and 920 ms at 100³ on 2 cores.
+
+An unreachable target would make A* expand every voxel it can reach before giving up (~80 ms for
+a sealed box at 50³). Reachability is a question of face-connected components, exactly: a
+diagonal move that cuts no corner has a free face-to-face way between its ends, so the voxels a
+no-corner-cutting 26-connected path reaches are the start's 6-connected free component. So
+before searching, a flood fill from the targets bounded by ``SEALED_BUDGET`` voxels proves a
+target sealed in (a box, a drawer) at once; and after ``CONNECTIVITY_AFTER`` expansions without a
+target the search labels the components (scipy.ndimage.label, ~2 ms at 50³) and stops if no
+target shares the start's.
 """
 
 from __future__ import annotations
 
 from typing import NamedTuple
 
-import numba
 import numpy as np
 from numpy.typing import NDArray
+from scipy import ndimage
 
-_SQRT3 = float(np.sqrt(3.0))
+from voxposer.planning.search_kernel import astar_kernel, near_blocked, sealed_off
+
+#: Expansions after which a search that has not reached a target checks that one is reachable.
+CONNECTIVITY_AFTER = 50_000
+#: A flood fill from the targets that ends within this many voxels proves them sealed off.
+SEALED_BUDGET = 8_192
 
 
 class SearchResult(NamedTuple):
@@ -33,162 +47,16 @@ class SearchResult(NamedTuple):
     Attributes:
         path: voxel indices from start to the reached target, shape (N, 3); empty if none.
         cost: total path cost (inf if no path).
-        expanded: number of voxels expanded.
-        closest: the expanded voxel nearest to a target, shape (3,) (useful when unreachable).
+        expanded: number of voxels expanded (for a target shown unreachable by connectivity:
+            the number of voxels reachable from the start).
+        closest: the expanded (or reachable) voxel nearest to a target, shape (3,) (useful
+            when unreachable).
     """
 
     path: NDArray[np.int64]
     cost: float
     expanded: int
     closest: NDArray[np.int64]
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _heap_push(
-    keys: np.ndarray, vals: np.ndarray, size: int, key: float, val: int
-) -> None:  # pragma: no cover
-    i = size
-    while i > 0:
-        p = (i - 1) >> 1
-        if keys[p] <= key:
-            break
-        keys[i] = keys[p]
-        vals[i] = vals[p]
-        i = p
-    keys[i] = key
-    vals[i] = val
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _heap_pop(keys: np.ndarray, vals: np.ndarray, size: int) -> int:  # pragma: no cover
-    """Remove the smallest entry of a heap of ``size`` entries; return its value."""
-    top = vals[0]
-    size -= 1
-    key, val = keys[size], vals[size]
-    i = 0
-    while True:
-        c = 2 * i + 1
-        if c >= size:
-            break
-        if c + 1 < size and keys[c + 1] < keys[c]:
-            c += 1
-        if key <= keys[c]:
-            break
-        keys[i] = keys[c]
-        vals[i] = vals[c]
-        i = c
-    keys[i] = key
-    vals[i] = val
-    return top
-
-
-@numba.njit(cache=True, nogil=True)
-def _near_kernel(blocked: np.ndarray) -> np.ndarray:  # pragma: no cover - compiled
-    """Voxels with a blocked voxel among their 26 neighbours (only there can a move cut a corner)."""
-    nx, ny, nz = blocked.shape
-    near = np.zeros_like(blocked)
-    for x in range(nx):
-        for y in range(ny):
-            for z in range(nz):
-                if blocked[x, y, z]:
-                    near[max(x - 1, 0) : x + 2, max(y - 1, 0) : y + 2, max(z - 1, 0) : z + 2] = True
-    return near
-
-
-@numba.njit(cache=True, nogil=True)
-def _astar_kernel(  # pragma: no cover - compiled
-    cost: np.ndarray,
-    blocked: np.ndarray,
-    near_blocked: np.ndarray,
-    target: np.ndarray,
-    dist: np.ndarray,
-    start: np.ndarray,
-    length_weight: float,
-    aff_scale: float,
-    max_expansions: int,
-) -> tuple[np.ndarray, float, int, int]:
-    nx, ny, nz = cost.shape
-    n = nx * ny * nz
-    g = np.full(n, np.inf)
-    parent = np.full(n, -1, dtype=np.int64)
-    closed = np.zeros(n, dtype=np.bool_)
-    cost_f = cost.ravel()
-    blocked_f = blocked.ravel()
-    near_f = near_blocked.ravel()
-    target_f = target.ravel()
-    dist_f = dist.ravel()
-    s = (start[0] * ny + start[1]) * nz + start[2]
-    g[s] = 0.0
-    cap = n + 1
-    keys = np.empty(cap, dtype=np.float64)
-    vals = np.empty(cap, dtype=np.int64)
-    keys[0], vals[0], size = 0.0, s, 1
-    expanded = 0
-    closest = s
-    while size > 0:
-        u = _heap_pop(keys, vals, size)
-        size -= 1
-        if closed[u]:
-            continue
-        closed[u] = True
-        expanded += 1
-        if dist_f[u] < dist_f[closest]:
-            closest = u
-        if target_f[u]:
-            return parent, g[u], expanded, u
-        if expanded >= max_expansions:
-            break
-        ux = u // (ny * nz)
-        uy = (u // nz) % ny
-        uz = u % nz
-        check_corners = near_f[u]
-        for dx in range(-1, 2):
-            vx = ux + dx
-            if vx < 0 or vx >= nx:
-                continue
-            for dy in range(-1, 2):
-                vy = uy + dy
-                if vy < 0 or vy >= ny:
-                    continue
-                for dz in range(-1, 2):
-                    if dx == 0 and dy == 0 and dz == 0:
-                        continue
-                    vz = uz + dz
-                    if vz < 0 or vz >= nz:
-                        continue
-                    v = (vx * ny + vy) * nz + vz
-                    if closed[v] or blocked_f[v]:
-                        continue
-                    # no corner cutting: every voxel of the box spanned by u and v is free
-                    nnz = abs(dx) + abs(dy) + abs(dz)
-                    if nnz > 1 and check_corners:
-                        cut = False
-                        for cx in range(min(0, dx), max(0, dx) + 1):
-                            for cy in range(min(0, dy), max(0, dy) + 1):
-                                for cz in range(min(0, dz), max(0, dz) + 1):
-                                    if cx == 0 and cy == 0 and cz == 0:
-                                        continue  # u itself (a blocked start may be left)
-                                    w = ((ux + cx) * ny + (uy + cy)) * nz + (uz + cz)
-                                    if blocked_f[w]:
-                                        cut = True
-                        if cut:
-                            continue
-                    step = np.sqrt(nnz)
-                    ng = g[u] + step * (length_weight + cost_f[v])
-                    if ng < g[v]:
-                        g[v] = ng
-                        parent[v] = u
-                        d = dist_f[v]
-                        h = length_weight * d
-                        if d > _SQRT3:
-                            h += aff_scale * 0.5 * (d - _SQRT3) ** 2
-                        if size == cap:  # grow (stale duplicates can exceed n entries)
-                            cap *= 2
-                            keys = np.concatenate((keys, np.empty(cap - size)))
-                            vals = np.concatenate((vals, np.empty(cap - size, dtype=np.int64)))
-                        _heap_push(keys, vals, size, ng + h, v)
-                        size += 1
-    return parent, np.inf, expanded, closest
 
 
 def astar(
@@ -217,18 +85,19 @@ def astar(
         max_expansions: stop after expanding this many voxels (default: all of them).
     """
     blocked = np.ascontiguousarray(blocked, dtype=np.bool_)
-    near_blocked = _near_kernel(blocked)
-    parent, total, expanded, last = _astar_kernel(
-        np.ascontiguousarray(cost, dtype=np.float32),
-        blocked,
-        near_blocked,
-        np.ascontiguousarray(target_mask, dtype=np.bool_),
-        np.ascontiguousarray(target_distance, dtype=np.float32),
-        np.asarray(start, dtype=np.int64),
-        float(length_weight),
-        float(affordance_scale),
-        int(max_expansions if max_expansions is not None else cost.size + 1),
-    )
+    start = np.asarray(start, dtype=np.int64)
+    limit = int(max_expansions if max_expansions is not None else cost.size + 1)
+    args = (np.ascontiguousarray(cost, dtype=np.float32), blocked, near_blocked(blocked),
+            np.ascontiguousarray(target_mask, dtype=np.bool_),
+            np.ascontiguousarray(target_distance, dtype=np.float32), start,
+            float(length_weight), float(affordance_scale))
+    if limit > 1 and sealed_off(blocked, args[3], start, SEALED_BUDGET):
+        return _unreachable(blocked, start, args[4])
+    parent, total, expanded, last, stopped = astar_kernel(*args, min(limit, CONNECTIVITY_AFTER))
+    if stopped and limit > CONNECTIVITY_AFTER:
+        if not np.any(_reachable(blocked, start) & args[3]):  # no target in the start's part
+            return _unreachable(blocked, start, args[4])
+        parent, total, expanded, last, _ = astar_kernel(*args, limit)
     closest = np.array(np.unravel_index(last, cost.shape), dtype=np.int64)
     if not np.isfinite(total):
         return SearchResult(np.zeros((0, 3), dtype=np.int64), float("inf"), int(expanded), closest)
@@ -237,6 +106,25 @@ def astar(
         chain.append(int(parent[chain[-1]]))
     path = np.stack(np.unravel_index(np.array(chain[::-1]), cost.shape), axis=1).astype(np.int64)
     return SearchResult(path, float(total), int(expanded), closest)
+
+
+def _unreachable(blocked: NDArray[np.bool_], start: NDArray[np.int64],
+                 target_distance: NDArray[np.float32]) -> SearchResult:
+    """The result for a target no path reaches: the start's component as the voxels searched,
+    its voxel nearest a target as ``closest``."""
+    flat = np.flatnonzero(_reachable(blocked, start))
+    last = int(flat[np.argmin(target_distance.reshape(-1)[flat])])
+    closest = np.array(np.unravel_index(last, blocked.shape), dtype=np.int64)
+    return SearchResult(np.zeros((0, 3), dtype=np.int64), float("inf"), len(flat), closest)
+
+
+def _reachable(blocked: NDArray[np.bool_], start: NDArray[np.int64]) -> NDArray[np.bool_]:
+    """The voxels a path from ``start`` can reach (its face-connected free component, the start
+    counted free), shape ``blocked.shape``."""
+    free = ~blocked
+    free[tuple(start)] = True
+    labels, _ = ndimage.label(free)
+    return np.asarray(labels == labels[tuple(start)])
 
 
 def greedy_descent(

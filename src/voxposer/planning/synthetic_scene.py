@@ -110,9 +110,17 @@ def make_synthetic_scene(
             parts.append(sphere_surface_points(centre, radius))
             placed += 1
     avoid_centre = np.array([0.30, 0.22, 0.35])
-    parts.append(box_surface_points(avoid_centre - 0.025, avoid_centre + 0.025))
-    points = np.concatenate(parts)
+    return scene_from_points(grid, np.concatenate(parts), start, target, avoid_centre)
 
+
+def scene_from_points(grid: VoxelGrid, obstacles: NDArray[np.float64], start: NDArray[np.float64],
+                      target: NDArray[np.float64], avoid_centre: NDArray[np.float64]
+                      ) -> SyntheticScene:
+    """The scene of obstacle surface points ``obstacles`` [m], shape (N, 3), with a 5 cm box to
+    stay away from at ``avoid_centre`` [m] (added to the points) and the value maps of
+    :class:`SyntheticScene` around ``target`` [m]; ``start`` [m] is the end effector."""
+    points = np.concatenate([obstacles,
+                             box_surface_points(avoid_centre - 0.025, avoid_centre + 0.025)])
     api = ValueMapAPI(grid)
     target_vox = grid.world_to_voxel(target)
     affordance = api.get_empty_affordance_map()
@@ -128,7 +136,7 @@ def make_synthetic_scene(
     return SyntheticScene(
         grid=grid,
         points=points,
-        start=start,
+        start=np.asarray(start, dtype=np.float64),
         target=grid.voxel_to_world(target_vox),
         avoid_centre=avoid_centre,
         affordance_map=affordance,

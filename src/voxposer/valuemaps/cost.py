@@ -13,7 +13,7 @@ voxels is), the avoidance map by its maximum, and the Gaussian's sigma is scaled
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -181,9 +181,10 @@ def compose_cost_map(
     affordance_cost = normalise(target_distance.copy())
 
     fine_obstacles = _scene_obstacles(grid, occupancy, entity_occupancy, start_m, fine_targets, cfg)
-    avoid = (None if avoidance_map is None
-             else np.maximum(check_value_map("avoidance", avoidance_map, grid), 0))
-    avoidance_cost = _avoidance_cost(coarse.shape, avoid, fine_obstacles, cfg)
+    avoid = None if avoidance_map is None else _non_negative(
+        check_value_map("avoidance", avoidance_map, grid))
+    pooled = None if avoid is None else pool_max(avoid, f)
+    avoidance_cost = _avoidance_cost(coarse.shape, pooled, fine_obstacles, cfg)
     cost = cfg.affordance_weight * affordance_cost
     if cfg.avoidance_weight > 0:
         cost += cfg.avoidance_weight * avoidance_cost
@@ -191,7 +192,8 @@ def compose_cost_map(
     obstacles = planning_obstacles(
         grid, coarse, fine_obstacles, fine_targets, start_m, avoid, layer_z,
         downsample=f, margin_cm=cfg.obstacle_margin_cm, entity_clear_cm=cfg.entity_clear_radius_cm,
-        target_clear_cm=cfg.target_clear_radius_cm, keep_out_fraction=cfg.avoidance_keep_out)
+        target_clear_cm=cfg.target_clear_radius_cm, keep_out_fraction=cfg.avoidance_keep_out,
+        pooled_avoid=pooled)
     obstacles &= ~target_mask
     return CostMap(
         grid=coarse,
@@ -207,6 +209,20 @@ def compose_cost_map(
         start=start_m,
         config=cfg,
     )
+
+
+def without_keep_out(cmap: CostMap, layer_z: float | None = None) -> CostMap:
+    """``cmap`` with the avoidance map's core no longer an obstacle (the paper's soft cost
+    alone; the planner's fallback when the core leaves no path): only the obstacles are made
+    again, the cost is the same. ``layer_z`` [m] as given to :func:`compose_cost_map`."""
+    cfg = replace(cmap.config, avoidance_keep_out=0.0)
+    obstacles = planning_obstacles(
+        cmap.fine_grid, cmap.grid, cmap.fine_obstacles, cmap.fine_targets, cmap.start, None,
+        layer_z, downsample=cfg.downsample, margin_cm=cfg.obstacle_margin_cm,
+        entity_clear_cm=cfg.entity_clear_radius_cm, target_clear_cm=cfg.target_clear_radius_cm,
+        keep_out_fraction=0.0)
+    obstacles &= ~cmap.target_mask
+    return replace(cmap, obstacles=obstacles, config=cfg)
 
 
 def _fine_targets(aff: NDArray, grid: VoxelGrid, threshold: float) -> NDArray[np.int64]:
@@ -225,18 +241,23 @@ def _fine_targets(aff: NDArray, grid: VoxelGrid, threshold: float) -> NDArray[np
     return np.stack(np.unravel_index(flat, grid.shape), axis=1).astype(np.int64)
 
 
-def _avoidance_cost(coarse_shape: tuple[int, ...], avoid: NDArray | None,
+def _non_negative(values: NDArray[np.floating]) -> NDArray[np.floating]:
+    """``values`` with negatives raised to 0 (copied only when there are any)."""
+    return np.maximum(values, 0) if float(values.min()) < 0 else values
+
+
+def _avoidance_cost(coarse_shape: tuple[int, ...], pooled: NDArray | None,
                     fine_obstacles: NDArray[np.bool_], cfg: CostMapConfig) -> NDArray[np.float32]:
-    """The avoidance term on the planning grid from the validated, non-negative avoidance map:
-    pooled, Gaussian-smoothed, normalised (zeros when nothing is to be avoided); scene obstacles
-    join it with ``obstacles_as_avoidance``."""
+    """The avoidance term on the planning grid from the non-negative avoidance map pooled onto
+    it (None: nothing to avoid): Gaussian-smoothed, normalised (zeros when nothing is to be
+    avoided); scene obstacles join it with ``obstacles_as_avoidance``."""
     if cfg.obstacles_as_avoidance and fine_obstacles.any():
-        solid = fine_obstacles.astype(np.float32)
-        avoid = solid if avoid is None else np.maximum(avoid, solid)
-    if avoid is None or float(avoid.max()) <= 0:
+        solid = pool_max(fine_obstacles, cfg.downsample).astype(np.float32)
+        pooled = solid if pooled is None else np.maximum(pooled, solid)
+    if pooled is None or float(pooled.max()) <= 0:
         return np.zeros(coarse_shape, dtype=np.float32)
-    pooled = pool_max(avoid.astype(np.float32, copy=False), cfg.downsample)
-    return normalise(smooth_zero_padded(pooled, cfg.avoidance_sigma / cfg.downsample,
+    return normalise(smooth_zero_padded(pooled.astype(np.float32, copy=False),
+                                        cfg.avoidance_sigma / cfg.downsample,
                                         cfg.gaussian_truncate))
 
 

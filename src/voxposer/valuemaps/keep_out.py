@@ -19,7 +19,8 @@ from voxposer.valuemaps.voxel_ops import pool_max
 
 
 def keep_out(grid: VoxelGrid, avoid: NDArray[np.floating], start: NDArray[np.float64],
-             fraction: float, downsample: int) -> NDArray[np.bool_]:
+             fraction: float, downsample: int, pooled: NDArray[np.floating] | None = None
+             ) -> NDArray[np.bool_]:
     """Coarse voxels the path may not enter, shape ``grid.coarsen(downsample).shape``.
 
     Args:
@@ -28,6 +29,9 @@ def keep_out(grid: VoxelGrid, avoid: NDArray[np.floating], start: NDArray[np.flo
         start: the entity's position [m], shape (3,).
         fraction: voxels valued at least ``fraction`` × the map's maximum are kept out (0: none).
         downsample: fine voxels per planning voxel along each axis.
+        pooled: ``avoid``'s block maximum on the planning grid when already made
+            (:func:`~voxposer.valuemaps.voxel_ops.pool_max`): a planning voxel is kept out when
+            any of its fine voxels reaches the level, i.e. when its maximum does.
     """
     coarse_shape = grid.coarsen(downsample).shape
     top = float(avoid.max()) if avoid.size else 0.0
@@ -37,5 +41,6 @@ def keep_out(grid: VoxelGrid, avoid: NDArray[np.floating], start: NDArray[np.flo
     at_start = float(avoid[tuple(grid.world_to_voxel(start, clip=True))])
     if at_start >= level:  # starting inside: only what is worse than here is kept out
         level = np.nextafter(np.float32(at_start), np.float32(np.inf))
-    core = (avoid >= level).astype(np.float32)
-    return pool_max(core, downsample) > 0
+    if pooled is None:
+        pooled = pool_max(avoid, downsample)
+    return np.asarray(pooled >= level)

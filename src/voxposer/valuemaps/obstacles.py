@@ -16,13 +16,14 @@ def planning_obstacles(
     grid: VoxelGrid, coarse: VoxelGrid, fine_obstacles: NDArray[np.bool_],
     fine_targets: NDArray[np.int64], start: NDArray[np.float64], avoid: NDArray | None,
     layer_z: float | None, *, downsample: int, margin_cm: float, entity_clear_cm: float,
-    target_clear_cm: float, keep_out_fraction: float,
+    target_clear_cm: float, keep_out_fraction: float, pooled_avoid: NDArray | None = None,
 ) -> NDArray[np.bool_]:
     """Obstacles on the planning grid, shape ``coarse.shape``: the scene's, pooled and grown by
     the margin (cleared again around the start and the targets); the avoidance map's core
     (:func:`voxposer.valuemaps.keep_out.keep_out`, cleared around the targets); and with
     ``layer_z`` everything outside that layer. Distances in cm; ``downsample`` fine voxels per
-    planning voxel; ``keep_out_fraction`` as ``CostMapConfig.avoidance_keep_out``."""
+    planning voxel; ``keep_out_fraction`` as ``CostMapConfig.avoidance_keep_out``;
+    ``pooled_avoid``: ``avoid`` pooled onto the planning grid, when already made."""
     f = downsample
     obstacles = pool_max(fine_obstacles, f)
     targets = target_representatives(grid, fine_targets)
@@ -33,7 +34,7 @@ def planning_obstacles(
         for target in targets:
             clear_sphere(obstacles, coarse, target, target_clear_cm)
     if avoid is not None and keep_out_fraction > 0:
-        core = keep_out(grid, avoid, start, keep_out_fraction, f)
+        core = keep_out(grid, avoid, start, keep_out_fraction, f, pooled_avoid)
         for target in targets:
             clear_sphere(core, coarse, target, target_clear_cm)
         obstacles |= core

