@@ -12,7 +12,13 @@ The instruction runs through :class:`voxposer.lmp.LMPRuntime` on the built-in ta
 ``--mode requests`` instead sends each prompt file once with a representative query. The last
 line is machine-readable.
 
-    python benchmarks/llm_latency.py [--instruction "..."] [--mode runtime|requests]
+``--mode suite`` times a set of one- and multi-sub-task instructions (``SUITE``) warm: one
+process runs them all to evaluate every prefix they use (cold, not timed), then a fresh process
+with those prefix states on disk and no response cache runs them again; per instruction it reports the seconds spent
+in the model (the sum of its calls), the calls, the sub-tasks (composer calls) and seconds per
+sub-task, then median and max, and the process's peak resident memory.
+
+    python benchmarks/llm_latency.py [--instruction "..."] [--mode runtime|requests|suite]
 """
 
 from __future__ import annotations
@@ -20,6 +26,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -42,6 +50,22 @@ REQUEST_QUERIES = {  # --mode requests: one representative query per program
     "get_rotation_map": "default rotation",
     "get_gripper_map": "open everywhere",
 }
+
+
+SUITE = (  # (instruction, sub-tasks it holds)
+    ("move to the top of the blue block while staying away from the green block", 1),
+    ("push the red block 10 cm to the left", 1),
+    ("open the top drawer", 1),
+    ("move to the back left corner of the table", 1),
+    ("grasp the yellow block", 1),
+    ("move 10cm above the pink block", 1),
+    ("push the green block to the front side of the table", 1),
+    ("move to the right side of the table at a quarter of the speed", 1),
+    ("close the middle drawer", 1),
+    ("hover 10 cm over the blue block, then go to the back right corner of the table", 2),
+    ("push the red block to the left side of the table and then move away from it", 2),
+    ("grasp the green block, then drop it at the front left corner of the table", 2),
+)
 
 
 class _Meter(LLMBackend):
@@ -96,6 +120,54 @@ def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: boo
     return {"seconds": seconds, "calls": meter.calls, "error": error}
 
 
+def _run_suite(cache_dir: Path) -> dict:
+    """Every ``SUITE`` instruction in this process, warm (prefix states from ``cache_dir``, no
+    response cache): per instruction its calls, LLM seconds and composer calls."""
+    from voxposer.errors import VoxPoserError
+    from voxposer.lmp import LMPRuntime, make_tabletop_scene
+
+    meter = _Meter(make_backend(LLMConfig.from_env(cache_dir=cache_dir, cache=False)))
+    rows = []
+    for instruction, _ in SUITE:
+        meter.calls = []
+        error = None
+        try:
+            LMPRuntime(make_tabletop_scene(), meter).run(instruction)
+        except VoxPoserError as exc:
+            error = f"{type(exc).__name__}: {str(exc)[:120]}"
+        rows.append({"instruction": instruction, "calls": len(meter.calls),
+                     "composer_calls": sum(c["lmp"] == "composer"
+                                           or str(c["lmp"]).startswith("composer~")
+                                           for c in meter.calls),
+                     "llm_s": sum(float(c["seconds"]) for c in meter.calls), "error": error})
+    meter.close()
+    peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
+    return {"rows": rows, "peak_rss_mb": peak_kb / 1024}
+
+
+def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
+    console.print(f"[bold]cold[/]: {len(SUITE)} instructions (prefix states, not timed) …")
+    _spawn("suite", args, cache_dir)
+    console.print(f"[bold]warm[/]: {len(SUITE)} instructions …")
+    result = _spawn("suite", args, cache_dir)
+    table = Table(title=f"warm LLM time per instruction, {os.cpu_count()} CPU cores")
+    for column in ("instruction", "sub-tasks", "calls", "LLM s", "s per sub-task", "error"):
+        table.add_column(column)
+    single, per_subtask, calls = [], [], []
+    for row, (_, subtasks) in zip(result["rows"], SUITE, strict=True):
+        per = row["llm_s"] / subtasks
+        (single if subtasks == 1 else per_subtask).append(row["llm_s"] if subtasks == 1 else per)
+        calls.append(row["calls"])
+        table.add_row(row["instruction"], str(subtasks), str(row["calls"]),
+                      f"{row['llm_s']:.1f}", f"{per:.1f}", row["error"] or "")
+    console.print(table)
+    print(f"one_subtask_median_s={statistics.median(single):.1f} "
+          f"one_subtask_max_s={max(single):.1f} "
+          f"multi_per_subtask_median_s={statistics.median(per_subtask):.1f} "
+          f"multi_per_subtask_max_s={max(per_subtask):.1f} "
+          f"calls_median={statistics.median(calls):g} peak_rss_mb={result['peak_rss_mb']:.0f}")
+
+
 def _spawn(phase: str, args: argparse.Namespace, cache_dir: Path) -> dict:
     cmd = [sys.executable, __file__, "--phase", phase, "--mode", args.mode,
            "--instruction", args.instruction, "--cache-dir", str(cache_dir)]  # fmt: skip
@@ -106,18 +178,26 @@ def _spawn(phase: str, args: argparse.Namespace, cache_dir: Path) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--instruction", default=DEFAULT_INSTRUCTION)
-    parser.add_argument("--mode", choices=("runtime", "requests"), default="runtime")
-    parser.add_argument("--phase", choices=("cold", "warm", "cached"), help=argparse.SUPPRESS)
+    parser.add_argument("--mode", choices=("runtime", "requests", "suite"), default="runtime")
+    parser.add_argument("--phase", choices=("cold", "warm", "cached", "suite"),
+                        help=argparse.SUPPRESS)
     parser.add_argument("--cache-dir", type=Path, help="default: a fresh temporary directory")
     args = parser.parse_args()
+    if args.phase == "suite":  # worker process of --mode suite
+        sys.stdout.write(json.dumps(_run_suite(args.cache_dir)) + "\n")
+        return
     if args.phase:  # worker process
-        result = _run_phase(args.mode, args.instruction, args.cache_dir, args.phase != "cold")
+        mode = "runtime" if args.mode == "suite" else args.mode
+        result = _run_phase(mode, args.instruction, args.cache_dir, args.phase != "cold")
         sys.stdout.write(json.dumps(result) + "\n")
         return
 
     console = Console(stderr=True)
     with tempfile.TemporaryDirectory(prefix="voxposer-llm-bench-") as tmp:
         cache_dir = args.cache_dir or Path(tmp)
+        if args.mode == "suite":
+            _suite(args, console, cache_dir)
+            return
         results = {}
         for phase in ("cold", "warm", "cached"):
             console.print(f"[bold]{phase}[/] …")

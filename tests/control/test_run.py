@@ -120,6 +120,7 @@ def test_voxposer_run_writes_video_pictures_transcript_and_summary(tmp_path: Pat
     events = [json.loads(line) for line in (out / "transcript.jsonl").read_text().splitlines()]
     assert {e["event"] for e in events} >= {"llm_call", "exec"}
     assert summary["llm_calls"] == 4 and summary["subtasks"][0]["replans"] > 1  # names resolved
+    assert 100 < summary["peak_rss_mb"] < 64 * 1024  # this process's peak memory, in MiB
 
 
 def test_voxposer_run_fails_cleanly_for_an_unknown_object(tmp_path: Path) -> None:

@@ -21,6 +21,7 @@ import argparse
 import json
 import logging
 import re
+import resource
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -176,13 +177,15 @@ def run(args: argparse.Namespace) -> int:
         "total": round(time.perf_counter() - started, 2),
         **summary.get("timings_s", {}),
     }
+    # peak resident memory of this process [MiB] (ru_maxrss is in KiB on Linux)
+    summary["peak_rss_mb"] = round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
     summary["outputs"] = sorted(p.name for p in out.iterdir() if p.name != "summary.json")
     (out / "summary.json").write_text(json.dumps(summary, indent=2))
     style = "bold green" if summary["success"] else "bold red"
     console.print(
         f"[{style}]{'success' if summary['success'] else 'failure'}[/]: {summary['message']}"
     )
-    console.print(f"outputs in [bold]{out}[/bold]")
+    console.print(f"outputs in [bold]{out}[/bold] (peak memory {summary['peak_rss_mb']} MiB)")
     return 0 if summary["success"] else 1
 
 
