@@ -50,6 +50,17 @@ def test_away_between_two_blocks_is_measured_between_their_faces(checks: IntentC
     assert "closest 3.0 cm" in h["away"]("blue block", "green block").measured
 
 
+def test_an_objects_path_between_replans_counts(checks: IntentChecks) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    green = scene.detect("green block").position
+    checks.begin_subtask("push the blue block past the green block")
+    # observed only 15 cm before and after passing: the closest approach lies between samples
+    path = np.stack([green + [-0.15, 0.08, 0.0], green + [0.15, 0.08, 0.0]])
+    executed(checks, path + np.array([0.0, 0.0, 0.05]), entity="blue block", entity_path=path)
+    assert not h["away"]("blue block", "green block", cm=4).held
+    assert "closest 3.0 cm" in h["away"]("blue block", "green block").measured
+
+
 def test_passed_on_a_side_needs_the_path_beyond_that_face_while_level(checks: IntentChecks
                                                                        ) -> None:
     h, scene = helpers(checks), checks.api.scene

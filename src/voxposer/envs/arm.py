@@ -188,15 +188,20 @@ class ArmControlMixin(ArmStateMixin):
                                        goal.rotation_error)
         ctl = self.config.controller
         start = float(self.data.time)
+        catch_up = round(ctl.settle_time / ctl.control_dt)
         for _ in range(100_000):
+            before = self.controller.q_cmd.copy()
             wp = self.controller.next_waypoint(cmd.position, target_q, cmd.speed_scale)
             self.data.ctrl[self._arm_act] = wp.q
             self.advance(self.config.substeps)
-            if wp.at_goal:
+            # the reference arrives first; the command may still lag it (joint-speed clamp)
+            if wp.at_goal and (catch_up <= 0 or np.abs(wp.q - before).max() < 1e-4):
                 break
-        pos_err, rot_err = self._pose_error(cmd.position, target_q)
-        if not np.allclose(self.controller.q_cmd, goal.q, atol=0.05) and wp.tracking_error > ctl.position_tolerance:
-            log.debug("straight-line IK got stuck %.3f m short; finishing in joint space", pos_err)
+            catch_up -= int(wp.at_goal)
+        cmd_err = float(np.linalg.norm(self.ik.forward(self.controller.q_cmd)[0] - cmd.position))
+        if not np.allclose(self.controller.q_cmd, goal.q, atol=0.05) and (
+                wp.tracking_error > ctl.position_tolerance or cmd_err > ctl.position_tolerance):
+            log.debug("straight-line IK got stuck %.3f m short; finishing in joint space", cmd_err)
             while not self.controller.joint_step(goal.q, cmd.speed_scale):
                 self.data.ctrl[self._arm_act] = self.controller.q_cmd
                 self.advance(self.config.substeps)

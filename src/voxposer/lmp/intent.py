@@ -29,7 +29,14 @@ from numpy.typing import NDArray
 from voxposer.errors import ConfigError, VoxPoserError
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.intent_conditions import Condition, IntentResult
-from voxposer.lmp.intent_paths import SIDE_SLACK_M, box_gap, motion_speeds, side_pass, speed_band
+from voxposer.lmp.intent_paths import (
+    SIDE_SLACK_M,
+    box_gap,
+    densify,
+    motion_speeds,
+    side_pass,
+    speed_band,
+)
 from voxposer.lmp.sides import parse_side
 from voxposer.perception.names import is_end_effector, match_name
 
@@ -85,7 +92,9 @@ class IntentChecks:
 
     def add_execution(self, outcome: Any) -> None:
         """Keep the paths [m] an ``execute`` call took: the end effector's ``trace`` and the
-        entity's ``entity_path`` (shape (N, 3)), when the executor reports them."""
+        entity's ``entity_path`` (shape (N, 3); one sample per replan, so filled in along the
+        straight segments between them: :func:`~voxposer.lmp.intent_paths.densify`), when the
+        executor reports them."""
         trace = getattr(outcome, "trace", None)
         if trace is not None and len(trace):
             ee_path = np.asarray(trace, float).reshape(-1, 3)
@@ -96,7 +105,7 @@ class IntentChecks:
         entity, path = getattr(outcome, "entity", None), getattr(outcome, "entity_path", None)
         if entity and path is not None and len(path):
             key = "gripper" if is_end_effector(str(entity)) else str(entity)
-            self._paths.setdefault(key, []).append(np.asarray(path, float).reshape(-1, 3))
+            self._paths.setdefault(key, []).append(densify(path))
 
     def verdict(self) -> bool | None:
         """True when every evaluated condition held, False when one did not, None when the

@@ -6,6 +6,7 @@ Boxes are axis-aligned, given by their ``lo`` and ``hi`` corners [m], shape (3,)
 
 from __future__ import annotations
 
+from itertools import pairwise
 from typing import Final, NamedTuple
 
 import numpy as np
@@ -21,6 +22,8 @@ SKIP_START_S: Final = 0.2
 SKIP_END_M: Final = 0.03
 #: a gap between samples longer than this [s] is a pause (gripper, settling), not motion.
 MAX_GAP_S: Final = 0.05
+#: an object's path (one sample per replan) is filled in to points at most this far apart [m].
+DENSE_SPACING_M: Final = 0.005
 
 
 def box_gap(points: NDArray[np.float64], lo: NDArray[np.float64], hi: NDArray[np.float64],
@@ -85,3 +88,17 @@ def speed_band(scale: float) -> tuple[float, float]:
 
 
 __all__ = ["SidePass", "box_gap", "motion_speeds", "side_pass", "speed_band"]
+
+
+def densify(path: NDArray[np.float64], spacing: float = DENSE_SPACING_M) -> NDArray[np.float64]:
+    """``path`` (N, 3) [m] with points added on the straight segments between its samples so
+    that none is longer than ``spacing`` [m]: an object observed once per replan moves about
+    straight in between, and its closest approach to something may fall between two samples."""
+    path = np.asarray(path, dtype=np.float64).reshape(-1, 3)
+    if len(path) < 2:
+        return path
+    parts = [path[:1]]
+    for a, b in pairwise(path):
+        n = max(1, int(np.ceil(np.linalg.norm(b - a) / spacing)))
+        parts.append(a + np.outer(np.arange(1, n + 1) / n, b - a))
+    return np.concatenate(parts)
