@@ -127,7 +127,7 @@ def _run_suite(cache_dir: Path) -> dict:
     from voxposer.lmp import LMPRuntime, make_tabletop_scene
 
     meter = _Meter(make_backend(LLMConfig.from_env(cache_dir=cache_dir, cache=False)))
-    rows = []
+    rows, per_call = [], []
     for instruction, _ in SUITE:
         meter.calls = []
         error = None
@@ -139,19 +139,26 @@ def _run_suite(cache_dir: Path) -> dict:
                      "composer_calls": sum(c["lmp"] == "composer"
                                            or str(c["lmp"]).startswith("composer~")
                                            for c in meter.calls),
-                     "llm_s": sum(float(c["seconds"]) for c in meter.calls), "error": error})
+                     "llm_s": sum(float(c["seconds"]) for c in meter.calls),
+                     "prompt_tokens": sum(int(c["prompt_tokens"] or 0) for c in meter.calls),
+                     "completion_tokens": sum(int(c["completion_tokens"] or 0)
+                                              for c in meter.calls),
+                     "error": error})
+        per_call += meter.calls
     meter.close()
     peak_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB on Linux
-    return {"rows": rows, "peak_rss_mb": peak_kb / 1024}
+    return {"rows": rows, "calls": per_call, "peak_rss_mb": peak_kb / 1024}
 
 
 def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
-    console.print(f"[bold]cold[/]: {len(SUITE)} instructions (prefix states, not timed) …")
-    _spawn("suite", args, cache_dir)
+    if not args.warm_only:
+        console.print(f"[bold]cold[/]: {len(SUITE)} instructions (prefix states, not timed) …")
+        _spawn("suite", args, cache_dir)
     console.print(f"[bold]warm[/]: {len(SUITE)} instructions …")
     result = _spawn("suite", args, cache_dir)
     table = Table(title=f"warm LLM time per instruction, {os.cpu_count()} CPU cores")
-    for column in ("instruction", "sub-tasks", "calls", "LLM s", "s per sub-task", "error"):
+    for column in ("instruction", "sub-tasks", "calls", "gen tok", "LLM s", "s per sub-task",
+                   "error"):
         table.add_column(column)
     single, per_subtask, calls = [], [], []
     for row, (_, subtasks) in zip(result["rows"], SUITE, strict=True):
@@ -159,8 +166,25 @@ def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
         (single if subtasks == 1 else per_subtask).append(row["llm_s"] if subtasks == 1 else per)
         calls.append(row["calls"])
         table.add_row(row["instruction"], str(subtasks), str(row["calls"]),
-                      f"{row['llm_s']:.1f}", f"{per:.1f}", row["error"] or "")
+                      str(row["completion_tokens"]), f"{row['llm_s']:.1f}", f"{per:.1f}",
+                      row["error"] or "")
     console.print(table)
+    by_lmp: dict[str, list[dict]] = {}
+    for call in result["calls"]:
+        by_lmp.setdefault(str(call["lmp"]).split("~")[0], []).append(call)
+    lmps = Table(title="per program (all calls of the suite)")
+    for column in ("program", "calls", "median gen tok", "median s", "prefix sources"):
+        lmps.add_column(column)
+    for name, group in sorted(by_lmp.items()):
+        sources = sorted({str(c["prefix"]) for c in group})
+        lmps.add_row(name, str(len(group)),
+                     f"{statistics.median(int(c['completion_tokens'] or 0) for c in group):g}",
+                     f"{statistics.median(float(c['seconds']) for c in group):.1f}",
+                     ", ".join(sources))
+    console.print(lmps)
+    generated = sum(r["completion_tokens"] for r in result["rows"])
+    console.print(f"{generated} tokens generated in {sum(r['llm_s'] for r in result['rows']):.0f} "
+                  f"s of model time over {sum(calls)} calls")
     print(f"one_subtask_median_s={statistics.median(single):.1f} "
           f"one_subtask_max_s={max(single):.1f} "
           f"multi_per_subtask_median_s={statistics.median(per_subtask):.1f} "
@@ -182,6 +206,9 @@ def main() -> None:
     parser.add_argument("--phase", choices=("cold", "warm", "cached", "suite"),
                         help=argparse.SUPPRESS)
     parser.add_argument("--cache-dir", type=Path, help="default: a fresh temporary directory")
+    parser.add_argument("--warm-only", action="store_true",
+                        help="--mode suite: skip the cold pass (--cache-dir already holds the "
+                             "prefix states of every program the suite uses)")
     args = parser.parse_args()
     if args.phase == "suite":  # worker process of --mode suite
         sys.stdout.write(json.dumps(_run_suite(args.cache_dir)) + "\n")
