@@ -1,9 +1,8 @@
 """Fusing RGB-D views into one labelled world-frame point cloud with normals.
 
 Each camera's depth image is back-projected with its intrinsics K and camera-to-world extrinsics
-(OpenCV axes: x right, y down, z forward). Normals come from the organised point map: at every
-pixel the horizontal and vertical tangents are taken toward the neighbour with the smaller depth
-jump (so edges keep good normals), crossed, and turned to face the camera.
+(OpenCV axes: x right, y down, z forward). Normals come from the organised point map
+(:mod:`voxposer.perception.normals`).
 """
 
 from __future__ import annotations
@@ -12,13 +11,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.geometry.voxel_grid import VoxelGrid
-
-#: A tangent whose depth jump exceeds this [m] crosses an edge; the normal there is left at 0.
-EDGE_JUMP = 0.02
+from voxposer.perception.normals import camera_frame_normals
 
 
 class DepthView(Protocol):
@@ -87,44 +85,6 @@ def backproject(depth: NDArray[np.float32], intrinsics: NDArray[np.float64],
         return cam @ extrinsics[:3, :3].T + extrinsics[:3, 3]
 
 
-def _tangent(comp: tuple[NDArray[np.float32], ...], z: NDArray[np.float32], axis: int
-             ) -> tuple[tuple[NDArray[np.float32], ...], NDArray[np.bool_]]:
-    """Tangent along image ``axis`` toward the neighbour with the smaller depth jump."""
-    lo = (slice(None), slice(None, -1)) if axis == 1 else (slice(None, -1), slice(None))
-    hi = (slice(None), slice(1, None)) if axis == 1 else (slice(1, None), slice(None))
-    jump = np.abs(z[hi] - z[lo])
-    jf = np.full(z.shape, np.inf, dtype=np.float32)  # jump to the next pixel
-    jb = np.full(z.shape, np.inf, dtype=np.float32)  # jump to the previous pixel
-    jf[lo] = jump
-    jb[hi] = jump
-    use_bwd = jb < jf
-    out = []
-    for c in comp:
-        t = np.zeros(z.shape, dtype=np.float32)
-        t[lo] = c[hi] - c[lo]  # forward difference, stored at the lower pixel
-        t[hi] = np.where(use_bwd[hi], c[hi] - c[lo], t[hi])
-        out.append(t)
-    ok = np.minimum(jf, jb) < EDGE_JUMP
-    return tuple(out), ok
-
-
-def _camera_normals(x: NDArray[np.float32], y: NDArray[np.float32], z: NDArray[np.float32]
-                    ) -> tuple[NDArray[np.float32], NDArray[np.bool_]]:
-    """Camera-frame unit normals, shape (H, W, 3), facing the camera, and where they are valid."""
-    finite = np.isfinite(z)
-    zf = np.where(finite, z, np.float32(1e6))
-    comp = (np.where(finite, x, 0), np.where(finite, y, 0), zf)
-    (ux, uy, uz), ok_u = _tangent(comp, zf, axis=1)
-    (vx, vy, vz), ok_v = _tangent(comp, zf, axis=0)
-    nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
-    norm = np.sqrt(nx * nx + ny * ny + nz * nz)
-    ok = ok_u & ok_v & finite & (norm > 1e-12)
-    scale = np.where(ok, 1.0 / np.maximum(norm, 1e-12), 0.0).astype(np.float32)
-    # The camera sits at the origin: flip normals that point away from it.
-    flip = np.where(nx * comp[0] + ny * comp[1] + nz * zf > 0, -scale, scale)
-    return np.stack([nx * flip, ny * flip, nz * flip], axis=-1), ok
-
-
 def camera_normals(depth: NDArray[np.float32], intrinsics: NDArray[np.float64]
                    ) -> NDArray[np.float32]:
     """Unit normals in the camera frame, shape (H, W, 3), of a depth image [m], shape (H, W).
@@ -133,7 +93,38 @@ def camera_normals(depth: NDArray[np.float32], intrinsics: NDArray[np.float64]
     with no neighbour on the same surface).
     """
     x, y, z = _camera_points(depth, intrinsics)
-    return _camera_normals(x, y, z)[0]
+    return camera_frame_normals(x, y, z)[0]
+
+
+@numba.njit(cache=True, nogil=True)
+def _to_world(x: np.ndarray, y: np.ndarray, z: np.ndarray, normals: np.ndarray,
+              extrinsics: np.ndarray, lo: np.ndarray, hi: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # pragma: no cover - compiled
+    """(flat pixel indices, world points [m] (K, 3), world normals (K, 3)) of the pixels with a
+    depth whose point lies in the box [lo, hi] [m], in pixel order: one pass over the image."""
+    h, w = z.shape
+    idx = np.empty(h * w, dtype=np.int64)
+    pts = np.empty((h * w, 3))
+    nrm = np.empty((h * w, 3))
+    k = 0
+    for i in range(h):
+        for j in range(w):
+            if not np.isfinite(z[i, j]):
+                continue
+            cx, cy, cz = float(x[i, j]), float(y[i, j]), float(z[i, j])
+            e = extrinsics
+            px = e[0, 0] * cx + e[0, 1] * cy + e[0, 2] * cz + e[0, 3]
+            py = e[1, 0] * cx + e[1, 1] * cy + e[1, 2] * cz + e[1, 3]
+            pz = e[2, 0] * cx + e[2, 1] * cy + e[2, 2] * cz + e[2, 3]
+            if not (lo[0] <= px <= hi[0] and lo[1] <= py <= hi[1] and lo[2] <= pz <= hi[2]):
+                continue
+            idx[k] = i * w + j
+            pts[k, 0], pts[k, 1], pts[k, 2] = px, py, pz
+            nx, ny, nz = normals[i, j, 0], normals[i, j, 1], normals[i, j, 2]
+            for a in range(3):
+                nrm[k, a] = e[a, 0] * nx + e[a, 1] * ny + e[a, 2] * nz
+            k += 1
+    return idx[:k].copy(), pts[:k].copy(), nrm[:k].copy()
 
 
 def fuse_views(views: Sequence[DepthView], grid: VoxelGrid | None = None) -> PointCloud:
@@ -142,21 +133,13 @@ def fuse_views(views: Sequence[DepthView], grid: VoxelGrid | None = None) -> Poi
     Background pixels (infinite depth) are dropped.
     """
     parts: list[PointCloud] = []
+    lo = np.full(3, -np.inf) if grid is None else np.asarray(grid.bounds_min, dtype=np.float64)
+    hi = np.full(3, np.inf) if grid is None else np.asarray(grid.bounds_max, dtype=np.float64)
     for cam_index, view in enumerate(views):
         x, y, z = _camera_points(view.depth, view.intrinsics)
-        normals_cam, _ = _camera_normals(x, y, z)
-        idx = np.flatnonzero(np.isfinite(z))
-        rot, trans = view.extrinsics[:3, :3], view.extrinsics[:3, 3]
-        xk, yk, zk = (c.ravel()[idx].astype(np.float64) for c in (x, y, z))
-        coords = [rot[i, 0] * xk + rot[i, 1] * yk + rot[i, 2] * zk + trans[i] for i in range(3)]
-        if grid is not None:  # crop one axis at a time (cheaper than an (N, 3) mask)
-            inside = np.ones(len(idx), dtype=bool)
-            for i in range(3):
-                inside &= (coords[i] >= grid.bounds_min[i]) & (coords[i] <= grid.bounds_max[i])
-            idx, coords = idx[inside], [c[inside] for c in coords]
-        pts = np.stack(coords, axis=1)
-        nk = normals_cam.reshape(-1, 3)[idx]
-        normals = nk.astype(np.float64) @ rot.T
+        normals_cam, _ = camera_frame_normals(x, y, z)
+        ext = np.ascontiguousarray(view.extrinsics, dtype=np.float64)
+        idx, pts, normals = _to_world(x, y, z, normals_cam, ext, lo, hi)
         labels = view.object_ids.ravel()[idx].astype(np.int32)
         colors = view.rgb.reshape(-1, 3)[idx]
         parts.append(PointCloud(pts, normals, labels, colors,
