@@ -104,6 +104,19 @@ def test_points_to_occupancy_crops_outside_points(grid: VoxelGrid) -> None:
     assert occ[tuple(grid.world_to_voxel(pts[0]))]
 
 
+def test_points_to_occupancy_marks_each_points_own_voxel(grid: VoxelGrid) -> None:
+    rng = np.random.default_rng(1)
+    pts = rng.uniform(grid.bounds_min - 0.1, grid.bounds_max + 0.1, size=(2000, 3))
+    pts[0] = grid.bounds_max  # the upper bound belongs to the last cell
+    occ = grid.points_to_occupancy(pts)
+    inside = np.all((pts >= grid.bounds_min) & (pts <= grid.bounds_max), axis=1)
+    expected = np.zeros(grid.shape, bool)
+    for p in pts[inside]:
+        expected[tuple(grid.world_to_voxel(p))] = True
+    assert np.array_equal(occ, expected)
+    assert occ[tuple(np.array(grid.shape) - 1)]
+
+
 def test_coarsen_keeps_box_and_covers_whole_fine_voxels(grid: VoxelGrid) -> None:
     coarse = grid.coarsen(2)
     assert coarse.shape == (50, 50, 40)

@@ -27,6 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Final
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -237,13 +238,11 @@ class VoxelGrid:
 
         Points outside the workspace are dropped (a point cloud is cropped, not clipped).
         """
-        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
-        shape = np.asarray(self.shape)
-        scaled = (p - self.bounds_min) / self.resolution  # NaN stays NaN and fails the test below
-        inside = np.all((scaled >= 0) & (scaled <= shape), axis=1)
-        idx = np.minimum(scaled[inside].astype(np.int64), shape - 1)
+        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
         occ = np.zeros(self.shape, dtype=bool)
-        occ.reshape(-1)[np.ravel_multi_index(idx.T, self.shape)] = True
+        _mark_points(p, np.asarray(self.bounds_min, dtype=np.float64),
+                     np.asarray(self.resolution, dtype=np.float64),
+                     np.asarray(self.shape, dtype=np.int64), occ)
         return occ
 
     def coarsen(self, factor: int) -> VoxelGrid:
@@ -258,3 +257,18 @@ class VoxelGrid:
         coarse = -(-shp // factor)
         hi = self.bounds_min + coarse * factor * self.resolution
         return VoxelGrid(self.bounds_min, hi, tuple(int(c) for c in coarse))
+
+
+@numba.njit(cache=True, nogil=True)
+def _mark_points(points: np.ndarray, lo: np.ndarray, res: np.ndarray, shape: np.ndarray,
+                 occ: np.ndarray) -> None:  # pragma: no cover - compiled
+    """Set ``occ`` True at the voxel of every point (N, 3) [m] inside the box (the upper bound
+    belongs to the last cell; NaN points are dropped): one pass, no temporaries."""
+    for n in range(points.shape[0]):
+        sx = (points[n, 0] - lo[0]) / res[0]
+        sy = (points[n, 1] - lo[1]) / res[1]
+        sz = (points[n, 2] - lo[2]) / res[2]
+        if (sx >= 0.0 and sx <= shape[0] and sy >= 0.0 and sy <= shape[1]  # False for NaN
+                and sz >= 0.0 and sz <= shape[2]):
+            occ[min(int(sx), shape[0] - 1), min(int(sy), shape[1] - 1),
+                min(int(sz), shape[2] - 1)] = True
