@@ -35,6 +35,9 @@ def _signs(*pairs: tuple[int, int]) -> dict[int, int]:
     ("the right-most edge", _signs(RIGHT)),
     ("left-hand side", _signs(LEFT)),
     ("the far left", _signs(LEFT)),  # emphasis: the left side
+    ("a bit to the left", _signs(LEFT)),  # degree words say how far, not where
+    ("slightly more to the back", _signs(BACK)),
+    ("all the way to the right", _signs(RIGHT)),
     ("the far right corner at the front", _signs(FRONT, RIGHT)),  # emphasis beside "front"
     ("the end nearest to the robot", _signs(BACK)),
     ("next to the robot", _signs(BACK)),

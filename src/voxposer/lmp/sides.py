@@ -59,7 +59,8 @@ FILLER_WORDS: Final = (
     "this", "that", "which", "is", "table", "tabletop", "corner", "corners", "side", "sides",
     "end", "ends", "edge", "edges", "face", "faces", "part", "portion", "region", "area",
     "surface", "zone", "section", "quadrant", "border", "rim", "hand", "most", "very", "extreme",
-    "spot", "point", "place", "position", "location", "axis",
+    "spot", "point", "place", "position", "location", "axis", "bit", "little", "slightly",
+    "somewhat", "just", "more", "further", "farther", "direction", "way", "all",
 )
 _AXIS_TOKENS: Final = frozenset({"+x", "-x", "+y", "-y", "x", "y"})
 _PREPOSITIONS: Final = frozenset({"to", "from", "the", "a", "an", "of"})
