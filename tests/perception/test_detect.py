@@ -105,3 +105,15 @@ def test_a_drawers_sliding_direction_comes_from_what_the_cameras_see(
         axis = perceive(world).sliding_axis(part)
         assert axis is not None and axis @ truth > np.cos(np.radians(10)), (part, axis, truth)
     assert perceive(world).sliding_axis("blue block") is None
+
+
+def test_an_object_is_detected_once_per_observation(world: TabletopWorld) -> None:
+    world.reset(np.random.default_rng(5), SceneLayout(blocks=("blue",), extra_blocks=(0, 0)))
+    perceiver = perceive(world)
+    first = perceiver.detect("blue block")
+    assert perceiver.detect("the blue block") is first  # same observation: the same detection
+    assert not first.points.flags.writeable  # shared, so read-only
+    world.move_to_pose(world.get_ee_pose()[0] + [0.0, 0.05, 0.0])  # time passes: a new view
+    again = perceiver.detect("blue block")
+    assert again is not first
+    np.testing.assert_allclose(again.position, first.position, atol=0.005)

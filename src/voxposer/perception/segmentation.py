@@ -34,6 +34,9 @@ class SegmentationPerceiver:
         self._grid = grid
         self._obs: Observation | None = None
         self._cloud: PointCloud | None = None
+        #: detections of the current observation, by canonical name (their arrays are
+        #: read-only, so callers share them); emptied when a new observation arrives
+        self._detections: dict[str, DetectedObject] = {}
 
     @property
     def grid(self) -> VoxelGrid:
@@ -46,7 +49,7 @@ class SegmentationPerceiver:
     def observe(self) -> Observation:
         obs = self.source.observe(rgb=False)
         if obs is not self._obs:
-            self._obs, self._cloud = obs, None
+            self._obs, self._cloud, self._detections = obs, None, {}
         return obs
 
     def point_cloud(self) -> PointCloud:
@@ -64,12 +67,16 @@ class SegmentationPerceiver:
         """
         canonical = match_name(name, self.object_names)
         cloud = self.point_cloud()
+        if canonical in self._detections:  # once per observation (the maps and the executor
+            return self._detections[canonical]  # ask for the same objects at every replan)
         names = self.observe().label_names
         known = canonical in names and _in_catalog(canonical)  # other scenes: parts stand alone
         members = set(catalog.family(canonical)) if known else {canonical}
         labels = np.asarray([k for k, n in enumerate(names) if n in members], dtype=np.int32)
         sliding = known and catalog.object_named(canonical).kind in catalog.SLIDING_KINDS
-        return detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
+        found = detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
+        self._detections[canonical] = found
+        return found
 
     def scene_occupancy(self, entity: str, *, holding: bool, ignore_table: bool = False
                         ) -> NDArray[np.bool_]:
