@@ -33,6 +33,20 @@ def test_moved_measures_the_displacement_since_the_sub_task_began(checks: Intent
     assert not h["moved"]("green block").held  # it stayed
 
 
+def test_a_drawer_moves_by_its_front_face(checks: IntentChecks) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    closed = scene.box("top drawer")
+    open_lo = closed.lo + np.array([0.0, -0.08, 0.0])  # pulled out 8 cm toward -y
+    scene.set_box("top drawer", open_lo, closed.hi)  # the cameras see its front and its top
+    checks.begin_subtask("close the top drawer by pushing")
+    scene.set_box("top drawer", closed.lo, closed.hi)  # pushed in: only the front in view
+    cond = h["moved"]("top drawer", cm=6)  # the visible box's centre moved only 4 cm
+    assert cond.held and "moved 8.0 cm" in cond.measured
+    assert h["moved"]("top drawer", toward="right", cm=6).held  # in: +y (it opens toward −y)
+    scene.move("blue block", (0.0, 0.03, 0.0))
+    assert "moved 3.0 cm" in h["moved"]("blue block").measured  # a block: by its centre
+
+
 def test_near_on_and_above_read_the_scene_now(checks: IntentChecks) -> None:
     h, scene = helpers(checks), checks.api.scene
     blue = scene.detect("blue block")

@@ -26,6 +26,7 @@ from typing import Any, Final
 import numpy as np
 from numpy.typing import NDArray
 
+from voxposer import catalog
 from voxposer.errors import ConfigError, VoxPoserError
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.intent_conditions import Condition, IntentResult
@@ -33,6 +34,7 @@ from voxposer.lmp.intent_paths import (
     SIDE_SLACK_M,
     box_gap,
     densify,
+    face_shift,
     motion_speeds,
     side_pass,
     speed_band,
@@ -71,6 +73,7 @@ class IntentChecks:
         self.results: list[IntentResult] = []
         self._subtask = ""
         self._before: dict[str, NDArray[np.float64]] = {}
+        self._before_box: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         self._paths: dict[str, list[NDArray[np.float64]]] = {}
         self._timed: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
         #: the end effector's speed at speed scale 1 [m/s] (the robot's; None: unknown, so
@@ -83,9 +86,12 @@ class IntentChecks:
         self._subtask = str(subtask)
         self._paths, self._timed = {}, []
         before: dict[str, NDArray[np.float64]] = {"gripper": self._ee()}
+        self._before_box = {}
         for name in self.api.scene.object_names:
             try:
                 before[name] = self._centre(name)
+                if _sliding(name):
+                    self._before_box[name] = self._aabb(name)
             except VoxPoserError:  # not visible now
                 continue
         self._before = before
@@ -159,12 +165,16 @@ class IntentChecks:
 
     def moved(self, obj: str, toward: str | None = None, cm: float = MOVED_CM) -> Condition:
         """``obj``'s centre moved at least ``cm`` [cm] since the sub-task began (along
-        ``toward``, a side phrase such as "left" or "back right", when given)."""
+        ``toward``, a side phrase such as "left" or "back right", when given); a drawer or a
+        handle by its box's faces (:func:`~voxposer.lmp.intent_paths.face_shift`)."""
         name = self._name(obj)
         text = _call("moved", obj, toward=toward, cm=cm)
         if name not in self._before:
             return Condition(text, False, f"the {name} was not seen before the sub-task")
-        delta = (self._centre(name) - self._before[name]) * 100.0
+        if name in self._before_box:  # a drawer: by its faces (its body slides out of view)
+            delta = face_shift(self._before_box[name], self._aabb(name)) * 100.0
+        else:
+            delta = (self._centre(name) - self._before[name]) * 100.0
         if toward is None:
             dist = float(np.linalg.norm(delta))
             return Condition(text, dist >= cm, f"moved {dist:.1f} cm")
@@ -344,6 +354,16 @@ def _call(fn: str, *args: Any, **kwargs: Any) -> str:
     """How a helper call reads in a report: ``moved('pink block', toward='right', cm=2)``."""
     parts = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items() if v is not None]
     return f"{fn}({', '.join(parts)})"
+
+
+
+
+def _sliding(name: str) -> bool:
+    """Whether ``name`` is a part that slides (a drawer or its handle) in the catalog."""
+    try:
+        return catalog.object_named(name).kind in catalog.SLIDING_KINDS
+    except KeyError:
+        return False
 
 
 __all__ = ["AWAY_CM", "HELPERS", "Condition", "IntentChecks", "IntentResult"]

@@ -102,3 +102,13 @@ def densify(path: NDArray[np.float64], spacing: float = DENSE_SPACING_M) -> NDAr
         n = max(1, int(np.ceil(np.linalg.norm(b - a) / spacing)))
         parts.append(a + np.outer(np.arange(1, n + 1) / n, b - a))
     return np.concatenate(parts)
+
+
+def face_shift(before: tuple[NDArray[np.float64], NDArray[np.float64]],
+               after: tuple[NDArray[np.float64], NDArray[np.float64]]) -> NDArray[np.float64]:
+    """How far a box moved [m], shape (3,), measured by its faces: per axis the larger shift of
+    its two faces (``before``, ``after``: (lo, hi) corners). For a drawer, whose body slides into
+    the cabinet out of the cameras' view, the front face moves by the drawer's travel while the
+    centre of what is still visible moves far less."""
+    d_lo, d_hi = after[0] - before[0], after[1] - before[1]
+    return np.where(np.abs(d_hi) > np.abs(d_lo), d_hi, d_lo)

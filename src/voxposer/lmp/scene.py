@@ -114,6 +114,12 @@ class BoxScene:
         box = self._boxes[name]
         self._boxes[name] = Box(box.lo + d, box.hi + d, box.normal)
 
+    def set_box(self, name: str, lo: ArrayLike, hi: ArrayLike) -> None:
+        """Give object ``name`` the box [lo, hi] [m] (e.g. the part of a drawer left in view)."""
+        box = self.box(name)
+        self._boxes[name] = Box(np.asarray(lo, float).reshape(3), np.asarray(hi, float).reshape(3),
+                                box.normal)
+
     def box(self, name: str) -> Box:
         """The box of object ``name`` (exact name)."""
         if name not in self._boxes:
