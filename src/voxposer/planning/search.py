@@ -87,16 +87,16 @@ def astar(
     blocked = np.ascontiguousarray(blocked, dtype=np.bool_)
     start = np.asarray(start, dtype=np.int64)
     limit = int(max_expansions if max_expansions is not None else cost.size + 1)
+    targets = np.ascontiguousarray(target_mask, dtype=np.bool_)
+    dist = np.ascontiguousarray(target_distance, dtype=np.float32)
     args = (np.ascontiguousarray(cost, dtype=np.float32), blocked, near_blocked(blocked),
-            np.ascontiguousarray(target_mask, dtype=np.bool_),
-            np.ascontiguousarray(target_distance, dtype=np.float32), start,
-            float(length_weight), float(affordance_scale))
-    if limit > 1 and sealed_off(blocked, args[3], start, SEALED_BUDGET):
-        return _unreachable(blocked, start, args[4])
+            targets, dist, start, float(length_weight), float(affordance_scale))
+    if limit > 1 and sealed_off(blocked, targets, start, SEALED_BUDGET):
+        return _unreachable(blocked, start, dist)
     parent, total, expanded, last, stopped = astar_kernel(*args, min(limit, CONNECTIVITY_AFTER))
     if stopped and limit > CONNECTIVITY_AFTER:
-        if not np.any(_reachable(blocked, start) & args[3]):  # no target in the start's part
-            return _unreachable(blocked, start, args[4])
+        if not np.any(_reachable(blocked, start) & targets):  # no target in the start's part
+            return _unreachable(blocked, start, dist)
         parent, total, expanded, last, _ = astar_kernel(*args, limit)
     closest = np.array(np.unravel_index(last, cost.shape), dtype=np.int64)
     if not np.isfinite(total):
