@@ -247,3 +247,20 @@ class DivergedError(VoxPoserError, ArithmeticError):
         self.loss = float(loss)
         super().__init__(f"training diverged in epoch {self.epoch}: loss {self.loss!r}; lower "
                          "the learning rate or check the transitions for huge values")
+
+
+def pending_interrupt(exc: BaseException) -> KeyboardInterrupt | None:
+    """The ``KeyboardInterrupt`` (Ctrl-C, a stop signal) behind ``exc``, if any.
+
+    A signal handler that raises while compiled code (a numba kernel) is returning surfaces as a
+    ``SystemError`` whose cause is the interrupt. Code that turns a program's exceptions into its
+    errors asks this first: an interrupt must stop the run, not count as the program failing.
+    """
+    seen: set[int] = set()
+    current: BaseException | None = exc
+    while current is not None and id(current) not in seen:
+        if isinstance(current, KeyboardInterrupt):
+            return current
+        seen.add(id(current))
+        current = current.__cause__ or current.__context__
+    return None

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from voxposer.errors import ConfigError, ResultError
+from voxposer.errors import ConfigError, ResultError, pending_interrupt
 from voxposer.lmp.checks import check_execute_target
 from voxposer.lmp.handoff import MAP_ARGUMENTS, ExecuteHandler, ExecutionRequest
 from voxposer.lmp.intent import IntentChecks
@@ -67,6 +67,8 @@ class ExecuteCall:
             try:
                 outcome = self.handler.execute(request)
             except Exception as exc:
+                if (stop := pending_interrupt(exc)) is not None:
+                    raise stop from None
                 self.transcript.write("execute", subtask=self.subtask, success=False,
                                       message=f"{type(exc).__name__}: {exc}")
                 raise NoRetry(exc) from exc

@@ -34,6 +34,7 @@ from voxposer.errors import (
     LMPFailedError,
     ProgramError,
     UnresolvedObjectError,
+    pending_interrupt,
 )
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
@@ -143,6 +144,8 @@ class LMPRuntime:
         try:
             return self._evaluate(spec, query, code, attempt=0, replay=True)
         except Exception as exc:
+            if (stop := pending_interrupt(exc)) is not None:
+                raise stop from None
             raise LMPFailedError(lmp, query, [{"code": code, "error": describe(exc)}]) from exc
 
     def prompt(self, lmp: str) -> Prompt:
@@ -188,6 +191,8 @@ class LMPRuntime:
                     # failed: no retry here, the caller sees that error itself
                     raise
                 except Exception as exc:
+                    if (stop := pending_interrupt(exc)) is not None:
+                        raise stop from None
                     attempts.append({"code": code, "error": describe(exc)})
                     cause = exc.original if isinstance(exc, NoRetry) else exc
                     settled = isinstance(cause, NothingFound) and isinstance(last, NothingFound)
