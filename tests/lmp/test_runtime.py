@@ -152,3 +152,23 @@ def test_each_execute_call_is_in_the_transcript_with_its_outcome() -> None:
     failed = [e for e in failing.transcript.events if e["event"] == "execute"]
     assert len(failed) == 1 and failed[0]["success"] is False
     assert "the arm was blocked" in failed[0]["message"]
+
+
+def test_an_interrupt_inside_a_program_stops_the_run_instead_of_failing_it(monkeypatch) -> None:
+    # a stop signal raised while compiled perception code returns arrives as a SystemError
+    rt = runtime("closed_loop.jsonl")
+    scene = rt.api.scene
+    real_detect = scene.detect
+
+    def interrupted(name: str):
+        if name == "green block":
+            try:
+                raise KeyboardInterrupt
+            except KeyboardInterrupt as stop:
+                raise SystemError("CPUDispatcher(...) returned a result with an exception "
+                                  "set") from stop
+        return real_detect(name)
+
+    monkeypatch.setattr(scene, "detect", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        rt.run(INSTRUCTION)
