@@ -141,3 +141,40 @@ def test_with_a_prior_the_hand_holds_tau0s_own_orientation() -> None:
     # without a prior: the orientation at the end of the stage, whatever the step
     np.testing.assert_allclose(without.orientation(0, 1), traj.quats[-1])
     np.testing.assert_allclose(without.orientation(12, 1), traj.quats[-1])
+
+
+def test_on_an_opened_hinge_the_hand_keeps_facing_the_part() -> None:
+    """The rotation map is re-read on the part as observed: a door 30° open that τ₀'s hand never
+    turned with turns the hand 30° about z; a door as far open as τ₀'s hand had turned leaves
+    τ₀'s orientation; during the grasp (stage 0) nothing is turned."""
+    from dataclasses import replace
+
+    from scipy.spatial.transform import Rotation
+
+    from voxposer.learning.policies import LearningPolicy, hand_turns, stage_orientations
+    from voxposer.planning.waypoint_mpc import WaypointMPCConfig
+
+    mpc = WaypointMPCConfig((-0.03,) * 3 + (0.0,), (0.03,) * 3 + (1.0,), n_samples=4, horizon=3)
+    still = trajectory()
+    opened = np.r_[HANDLE, 0.0, HANDLE, 0.0, np.radians(30.0)]
+    step = len(still.waypoints) - 3
+    policy = LearningPolicy(TaskCost(still.stages, LAYOUTS["door"]), mpc, still,
+                            stage_orientations(still))
+    turned = Rotation.from_quat(policy.orientation(step, 1, opened))
+    held = Rotation.from_quat(still.quats[step + 1])
+    assert np.degrees((turned * held.inv()).as_rotvec()[2]) == pytest.approx(30.0, abs=1e-6)
+    np.testing.assert_allclose(policy.orientation(step, 0, opened), still.quats[step + 1])
+    # a τ₀ whose hand turned 30° with the door after its grasp: nothing more to turn
+    first = int(np.flatnonzero(still.stage_of > 0)[0])
+    yaw = np.where(np.arange(len(still.waypoints)) >= first,
+                   np.linspace(0, 30, len(still.waypoints)) - np.linspace(0, 30, len(
+                       still.waypoints))[first - 1], 0.0)
+    yaw[-4:] = 30.0
+    rot = Rotation.from_euler("z", yaw[:, None], degrees=True) * Rotation.from_quat(
+        still.quats[first - 1])
+    turning = replace(still, quats=rot.as_quat())
+    assert hand_turns(turning)[step + 1] == pytest.approx(np.radians(30.0), abs=1e-6)
+    follower = LearningPolicy(TaskCost(turning.stages, LAYOUTS["door"]), mpc, turning,
+                              stage_orientations(turning))
+    np.testing.assert_allclose(np.abs(follower.orientation(step, 1, opened) @ turning.quats[
+        step + 1]), 1.0, atol=1e-9)

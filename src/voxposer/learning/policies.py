@@ -4,13 +4,18 @@
 Before the first model is trained there is nothing to roll out: the "with prior" policy then
 follows τ₀ with noise ε ~ N(0, σ²) on each waypoint, the "without prior" one acts uniformly at
 random. The end-effector's orientation is τ₀'s at the waypoint an action heads for (with
-prior), or the zero-shot run's at the end of the current stage (without).
+prior), or the zero-shot run's at the end of the current stage (without). On a hinged part it
+is also turned about the hinge (z) by how far the observed part has opened beyond what τ₀'s own
+hand turned since its grasp: the zero-shot rotation map ("face the handle") is re-read on the
+part as it is now, as the closed-loop executor replans it, so a hand pulling a door keeps facing
+the door instead of twisting the bar in its fingers.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
 
 from voxposer.errors import ConfigError
 from voxposer.learning.task_cost import TaskCost
@@ -30,6 +35,17 @@ def stage_orientations(trajectory: ZeroShotTrajectory) -> NDArray[np.float64]:
             last = trajectory.quats[rows[-1]]
         out[s] = last
     return out
+
+
+def hand_turns(trajectory: ZeroShotTrajectory) -> NDArray[np.float64]:
+    """How far [rad] τ₀'s hand has turned about z since the end of its first stage (the grasp),
+    per waypoint, shape (T,); 0 during the first stage."""
+    grasped = np.flatnonzero(trajectory.stage_of > 0)
+    if not len(grasped):
+        return np.zeros(len(trajectory.quats))
+    start = Rotation.from_quat(trajectory.quats[max(0, grasped[0] - 1)])
+    turn = (Rotation.from_quat(trajectory.quats) * start.inv()).as_rotvec()[:, 2]
+    return np.where(trajectory.stage_of > 0, turn, 0.0)
 
 
 class LearningPolicy:
@@ -55,6 +71,10 @@ class LearningPolicy:
         self.prior = prior
         self.orientations = orientations
         self.model = model
+        names = cost.layout.state_names
+        #: where the hinged part's observed angle sits in o_t (None: no hinged part)
+        self.hinge_index = (cost.layout.index("door_angle") if "door_angle" in names else None)
+        self.turns = hand_turns(prior) if prior is not None else None
 
     def prior_window(self, obs: NDArray[np.float64], step: int) -> tuple[NDArray[np.float64],
                                                                          NDArray[np.float64]]:
@@ -85,14 +105,25 @@ class LearningPolicy:
         handle = obs[self.cost.layout.entity_slice(self.cost.layout.parts.handle)]
         self.cost.shift = np.zeros(3) if start is None else np.asarray(handle - start)
 
-    def orientation(self, step: int, stage: int) -> NDArray[np.float64]:
+    def orientation(self, step: int, stage: int,
+                    obs: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         """The end-effector orientation (x, y, z, w) to hold during action ``step``: with a prior,
         τ₀'s own at the waypoint the action heads for (τ₀ is a 6-DoF trajectory: the hand turns
         with a hinged part as its rotation map is replanned); without, the zero-shot run's at
-        the end of ``stage``."""
+        the end of ``stage``. Past the first stage, a hinged part observed in ``obs`` (shape
+        (D_o,)) opened further than τ₀'s hand had turned turns the hand about z by the
+        difference."""
         if self.prior is not None:
-            return np.asarray(self.prior.quats[min(step + 1, len(self.prior.quats) - 1)])
-        return np.asarray(self.orientations[min(stage, len(self.orientations) - 1)])
+            k = min(step + 1, len(self.prior.quats) - 1)
+            quat = self.prior.quats[k]
+            turned = float(self.turns[k]) if self.turns is not None else 0.0
+        else:
+            quat, turned = self.orientations[min(stage, len(self.orientations) - 1)], 0.0
+        if obs is None or self.hinge_index is None or stage == 0:
+            return np.asarray(quat)
+        extra = max(0.0, float(obs[self.hinge_index]) - turned)
+        return np.asarray((Rotation.from_rotvec([0.0, 0.0, extra])
+                           * Rotation.from_quat(quat)).as_quat())
 
     def act(self, obs: NDArray[np.float64], step: int, stage: int,
             rng: np.random.Generator) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -100,7 +131,7 @@ class LearningPolicy:
         Policy`."""
         if step == 0:
             self.anchor(obs)
-        quat = self.orientation(step, stage)
+        quat = self.orientation(step, stage, obs)
         prior, targets = (self.prior_window(obs, step) if self.prior is not None
                           else (None, None))
         if self.model is None:
@@ -116,4 +147,4 @@ class LearningPolicy:
         return np.asarray(plan.action), quat
 
 
-__all__ = ["LearningPolicy", "stage_orientations"]
+__all__ = ["LearningPolicy", "hand_turns", "stage_orientations"]
