@@ -11,6 +11,8 @@ output holds ``table3.md`` (beside the paper's numbers) and ``learning_curves.pn
 from __future__ import annotations
 
 import argparse
+import math
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Final
 
@@ -33,6 +35,9 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     p.add_argument("--seeds", type=int, default=3, help="learning runs per task and arm")
     p.add_argument("--time-limit", type=float, default=180.0,
                    help="simulated interaction per run [s] (default 180: the paper's 3 minutes)")
+    p.add_argument("--noise-cm", type=float, default=None,
+                   help="σ of the exploration noise ε on each of τ₀'s waypoints, and of the "
+                   "MPC's samples around it [cm] (default: LearnConfig.sigma_m)")
     p.add_argument("--record-zero-shot", type=int, default=0, metavar="K",
                    help="first record K zero-shot trajectories per task (default: use those "
                    "already in <out>/zero-shot)")
@@ -63,6 +68,8 @@ def check_args(args: argparse.Namespace) -> None:
     check_int(args.seeds, "--seeds", 1)
     if not args.time_limit > 0:
         raise ConfigError(f"--time-limit must be > 0 seconds, got {args.time_limit!r}")
+    if args.noise_cm is not None and not (math.isfinite(args.noise_cm) and args.noise_cm > 0):
+        raise ConfigError(f"--noise-cm must be a number of centimetres > 0, got {args.noise_cm!r}")
     check_int(args.record_zero_shot, "--record-zero-shot", 0)
     if args.zero_shot_llm not in ZERO_SHOT_SOURCES:
         raise ConfigError(f"unknown --zero-shot-llm {args.zero_shot_llm!r}; choose one of: "
@@ -80,8 +87,12 @@ def check_args(args: argparse.Namespace) -> None:
 def run(args: argparse.Namespace) -> int:
     """Record (if asked), learn every run, write the table and the curves; exit status."""
     from voxposer.cli.learn_progress import learn_all
+    from voxposer.learning.loop import LearnConfig
 
-    return learn_all(selected_tasks(args.task), args.prior, args.seeds, args.time_limit,
+    config = LearnConfig(time_limit_s=args.time_limit)
+    if args.noise_cm is not None:
+        config = replace(config, sigma_m=args.noise_cm / 100.0)
+    return learn_all(selected_tasks(args.task), args.prior, args.seeds, config,
                      args.record_zero_shot, args.zero_shot_llm, args.out, args.argv)
 
 

@@ -52,12 +52,12 @@ def record(tasks: tuple[str, ...], k: int, source: str, out: Path,
                               f"{len(traj.waypoints)} waypoints, {len(traj.stages)} sub-tasks")
 
 
-def learn_all(tasks: tuple[str, ...], prior: str, seeds: int, time_limit: float,
+def learn_all(tasks: tuple[str, ...], prior: str, seeds: int, config: LearnConfig,
               record_k: int, source: str, out: Path, argv: list[str]) -> int:
     """Record (``record_k`` > 0), learn every (task, arm, seed), write the report; exit 0."""
     from voxposer.learning.report import table3, write_curves
 
-    config = LearnConfig(time_limit_s=time_limit)
+    time_limit = config.time_limit_s
     out.mkdir(parents=True, exist_ok=True)
     (out / "config.json").write_text(json.dumps(
         {"argv": argv, "config": config_record(config)}, indent=1, default=str))
