@@ -49,6 +49,8 @@ def _refused(argv: list[str], capsys: pytest.CaptureFixture[str], tmp_path: Path
     (["run", "push the blue block left", "--max-time", "0"], ["--max-time", "> 0", "got 0"]),
     (["run", "push the blue block left", "--max-time", "-3"], ["--max-time", "got -3"]),
     (["run", "push the blue block left", "--max-time", "inf"], ["--max-time", "finite"]),
+    (["run", "push the blue block left", "--camera-hz", "0"], ["--camera-hz", "> 0", "got 0.0"]),
+    (["run", "push the blue block left", "--camera-hz", "nan"], ["--camera-hz", "got nan"]),
     (["run", "push the blue block left", "--seed", "abc"], ["--seed", "'abc'", "int"]),
     (["run", "push the blue block left", "--llm", "replay"], ["recordings", "--recordings"]),
     (["run", "push the blue block left", "--llm", "gpt-17"], ["--llm", "'gpt-17'", "replay"]),

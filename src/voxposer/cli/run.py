@@ -20,9 +20,11 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import math
 import re
 import resource
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -48,7 +50,7 @@ from voxposer.cli.perception_options import (
 from voxposer.cli.run_frames import add_frame_options, check_frame_options, rollout_frames
 from voxposer.cli.run_progress import RunProgress, progress_backend
 from voxposer.cli.run_scene import CLOSE_OPENING_M, SceneRequest, allowed_range, choose_scene
-from voxposer.errors import VoxPoserError
+from voxposer.errors import ConfigError, VoxPoserError
 
 #: ``--perception`` values (:data:`voxposer.pipeline.PERCEPTIONS`; kept here so the CLI's help
 #: needs no simulator import).
@@ -81,6 +83,10 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
     )
     p.add_argument("--max-time", type=float, default=40.0, help="simulated seconds per sub-task")
     p.add_argument("--no-video", action="store_true", help="skip the MP4")
+    p.add_argument("--camera-hz", type=float, default=None, metavar="HZ",
+                   help="each camera streams at this rate in simulated time and an observation "
+                   "holds the latest frame of each (at 2.5 Hz, two of the four views are new at "
+                   "each 5 Hz replan); default: every camera renders at every observation")
     p.add_argument("--perception", choices=PERCEPTION_CHOICES, default=None,
                    help="how objects are found: the simulator's segmentation (ground-truth, "
                    "default) or RGB-D pixels only (colour-depth, default with --frames); -noisy: "
@@ -99,11 +105,14 @@ def check_args(args: argparse.Namespace) -> None:
     Raises:
         ConfigError: an empty instruction, a negative ``--seed``, a ``--max-time`` that is not a
             positive number of seconds, an ``--out`` that is a file, a bad ``--place`` /
-            ``--drawer-open``, or language-model options the backend cannot use.
+            ``--drawer-open``, a ``--camera-hz`` that is not a positive rate, or language-model
+            options the backend cannot use.
     """
     check_text(args.instruction, "instruction", "push the blue block to the back left corner")
     check_seed(args.seed)
     check_seconds(args.max_time)
+    if args.camera_hz is not None and not (math.isfinite(args.camera_hz) and args.camera_hz > 0):
+        raise ConfigError(f"--camera-hz must be a frame rate > 0 [Hz], got {args.camera_hz!r}")
     check_out_dir(args.out)
     SceneRequest.from_options(args.drawer_open, args.place)
     check_llm_options(args, args.llm)
@@ -213,19 +222,22 @@ def _rollout(args: argparse.Namespace, request: SceneRequest, out: Path,
     from voxposer.control import ExecutorConfig
     from voxposer.control.disturbance_schedule import DisturbanceSchedule, Disturber
     from voxposer.control.recording import VideoRecorder
-    from voxposer.envs import TabletopWorld
+    from voxposer.envs import TabletopWorld, WorldConfig
     from voxposer.lmp.transcript import Transcript
     from voxposer.pipeline import Embodiment, voxposer_runtime
 
     progress = RunProgress(args.instruction)
     rng = np.random.default_rng(args.seed)
-    world = TabletopWorld()
+    config = WorldConfig()
+    world = TabletopWorld(replace(config, cameras=replace(config.cameras,
+                                                          frame_hz=args.camera_hz)))
     scene = choose_scene(args.instruction, rng, request)
     layout = scene.layout
     summary["scene"] = scene.describe()  # what was asked, should the reset fail
     summary["scene"] = scene.describe(world.reset(rng, layout))
     backend = progress_backend(_backend(args), progress)
     summary["model"] = backend.model
+    summary["camera_hz"] = args.camera_hz
     transcript = Transcript(out / "transcript.jsonl")
     runtime, executor = voxposer_runtime(
         Embodiment(world, open_vocab_from_args(world, world.grid, args))

@@ -49,6 +49,11 @@ class CameraConfig:
         depth_max: depths beyond this [m] are treated as background.
         detailed_robot: draw the robot with its high-poly visual meshes (135k triangles, about
             4x slower on a CPU renderer) instead of its low-poly collision meshes.
+        frame_hz: each camera's frame rate in simulated time [Hz], as a real camera streams at
+            its own rate: an observation holds each camera's latest frame, the cameras' frames
+            spread evenly over one period (at 2.5 Hz and 5 Hz replanning, two of the four views
+            are new at each replan). None: every camera renders a new frame at every
+            observation.
     """
 
     width: int = 320
@@ -65,6 +70,7 @@ class CameraConfig:
     antialias: bool = False
     depth_max: float = 4.0
     detailed_robot: bool = False
+    frame_hz: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("width", "height"):
@@ -74,6 +80,8 @@ class CameraConfig:
         if not (isinstance(self.fovy, int | float) and 1.0 <= self.fovy <= 170.0):
             raise ConfigError(f"CameraConfig.fovy must be in [1, 170] degrees; got {self.fovy!r}")
         _positive("CameraConfig.depth_max", self.depth_max)
+        if self.frame_hz is not None:
+            _positive("CameraConfig.frame_hz", self.frame_hz)
         if not self.positions:
             raise ConfigError("CameraConfig.positions must name at least one camera; got none")
         names = [n for n, _ in self.positions]

@@ -6,10 +6,15 @@ with a ground-truth label channel and the robot's state into an
 :class:`~voxposer.perception.observation.Observation`, cached until the physics state changes, so
 several perception queries at one instant render the cameras once. Each world says what its
 labels are (:meth:`CameraViewsMixin._geom_label_ids`, :meth:`CameraViewsMixin._label_names`).
+
+With a camera frame rate (``CameraConfig.frame_hz``) each camera renders only when its next
+frame is due — camera k of N at the times (n - k / N) / frame_hz — and an observation holds the
+latest frame of each, as a robot's camera streams do; the robot's state is always current.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Protocol
 
 import numpy as np
@@ -18,7 +23,10 @@ from numpy.typing import NDArray
 from voxposer.envs.arm import ArmSettings, ArmStateMixin
 from voxposer.envs.cameras import CameraRenderer
 from voxposer.envs.config import CameraConfig
-from voxposer.perception.observation import Observation
+from voxposer.perception.observation import CameraFrame, Observation
+
+#: a frame due at a slot boundary is new even with rounding in the simulated clock [slots]
+_SLOT_EPS = 1e-6
 
 
 class _WorldSettings(ArmSettings, Protocol):
@@ -81,15 +89,38 @@ class CameraViewsMixin(ArmStateMixin):
         if self._obs is not None and self._obs_key is not None and self._obs_key[:3] == key and (
                 self._obs_key[3] or not rgb):
             return self._obs
-        renderer = self._camera_renderer()
-        frames = tuple(renderer.render(self.data, f"{name}_camera", w, h, colour=rgb)
-                       for name in cams.names)
+        frames = tuple(self._latest_frame(k, name, w, h, rgb)
+                       for k, name in enumerate(cams.names))
         pos, quat = self.get_ee_pose()
         self._obs = Observation(time=float(self.data.time), cameras=frames, ee_position=pos,
                                 ee_quat=quat, gripper=self._gripper,
                                 label_names=self._label_names())
         self._obs_key = (*key, rgb)
         return self._obs
+
+    def _latest_frame(self, index: int, name: str, width: int, height: int,
+                      rgb: bool) -> CameraFrame:
+        """Camera ``name``'s (the ``index``-th camera's) frame for an observation now: its last
+        one while no new frame is due (same image size, colour when asked), else a new one."""
+        cams = self.config.cameras
+        now = float(self.data.time)
+        held: dict[str, tuple[float, tuple[int, int, bool], CameraFrame]] = (
+            self.__dict__.setdefault("_camera_frames", {}))
+        last = held.get(name)
+        if cams.frame_hz is not None and last is not None:
+            when, (w, h, colour), frame = last
+            phase = index / len(cams.names) + _SLOT_EPS
+
+            def slot(t: float) -> int:
+                return math.floor(t * cams.frame_hz + phase)  # type: ignore[operator]
+
+            if when <= now and slot(when) == slot(now) and (w, h) == (width, height) and (
+                    colour or not rgb):
+                return frame
+        frame = self._camera_renderer().render(self.data, f"{name}_camera", width, height,
+                                               colour=rgb)
+        held[name] = (now, (width, height, rgb), frame)
+        return frame
 
     def close(self) -> None:
         """Release the rendering context (the world stays usable; rendering reopens it)."""

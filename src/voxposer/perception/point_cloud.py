@@ -127,15 +127,23 @@ def _to_world(x: np.ndarray, y: np.ndarray, z: np.ndarray, normals: np.ndarray,
     return idx[:k].copy(), pts[:k].copy(), nrm[:k].copy()
 
 
-def fuse_views(views: Sequence[DepthView], grid: VoxelGrid | None = None) -> PointCloud:
+def fuse_views(views: Sequence[DepthView], grid: VoxelGrid | None = None,
+               reuse: dict[int, tuple[DepthView, PointCloud]] | None = None) -> PointCloud:
     """One world-frame cloud from several RGB-D views, cropped to ``grid``'s box when given.
 
-    Background pixels (infinite depth) are dropped.
+    Background pixels (infinite depth) are dropped. ``reuse`` (camera index → (view, its
+    points)) keeps each view's points between calls: a view that is the very object seen last
+    time (a camera whose next frame is not due yet) is not back-projected again; the dict is
+    updated in place.
     """
     parts: list[PointCloud] = []
     lo = np.full(3, -np.inf) if grid is None else np.asarray(grid.bounds_min, dtype=np.float64)
     hi = np.full(3, np.inf) if grid is None else np.asarray(grid.bounds_max, dtype=np.float64)
     for cam_index, view in enumerate(views):
+        held = None if reuse is None else reuse.get(cam_index)
+        if held is not None and held[0] is view:
+            parts.append(held[1])
+            continue
         x, y, z = _camera_points(view.depth, view.intrinsics)
         normals_cam, _ = camera_frame_normals(x, y, z)
         ext = np.ascontiguousarray(view.extrinsics, dtype=np.float64)
@@ -144,6 +152,8 @@ def fuse_views(views: Sequence[DepthView], grid: VoxelGrid | None = None) -> Poi
         colors = view.rgb.reshape(-1, 3)[idx]
         parts.append(PointCloud(pts, normals, labels, colors,
                                 np.full(len(pts), cam_index, dtype=np.int16)))
+        if reuse is not None:
+            reuse[cam_index] = (view, parts[-1])
     if not parts:
         return PointCloud(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, np.int32),
                           np.zeros((0, 3), np.uint8), np.zeros(0, np.int16))

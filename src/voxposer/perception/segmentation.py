@@ -16,7 +16,7 @@ from voxposer.perception.detect import DetectedObject, detect_in_cloud
 from voxposer.perception.names import match_name
 from voxposer.perception.observation import Observation
 from voxposer.perception.perceiver import ObservationSource
-from voxposer.perception.point_cloud import PointCloud, fuse_views
+from voxposer.perception.point_cloud import DepthView, PointCloud, fuse_views
 from voxposer.perception.scene_occupancy import scene_occupancy
 
 
@@ -37,6 +37,8 @@ class SegmentationPerceiver:
         #: detections of the current observation, by canonical name (their arrays are
         #: read-only, so callers share them); emptied when a new observation arrives
         self._detections: dict[str, DetectedObject] = {}
+        #: each camera's last view and its points (a view not renewed is not lifted again)
+        self._views: dict[int, tuple[DepthView, PointCloud]] = {}
 
     @property
     def grid(self) -> VoxelGrid:
@@ -55,7 +57,7 @@ class SegmentationPerceiver:
     def point_cloud(self) -> PointCloud:
         obs = self.observe()
         if self._cloud is None:
-            self._cloud = fuse_views(obs.cameras, self._grid)
+            self._cloud = fuse_views(obs.cameras, self._grid, self._views)
         return self._cloud
 
     def detect(self, name: str) -> DetectedObject:
