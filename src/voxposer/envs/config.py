@@ -52,7 +52,8 @@ class CameraConfig:
         frame_hz: each camera's frame rate in simulated time [Hz], as a real camera streams at
             its own rate: an observation holds each camera's latest frame, the cameras' frames
             spread evenly over one period (at 2.5 Hz and 5 Hz replanning, two of the four views
-            are new at each replan). None: every camera renders a new frame at every
+            are new at each replan); what changes between frames (a disturbance too) shows
+            in each view at its next frame. None: every camera renders a new frame at every
             observation.
     """
 
