@@ -29,6 +29,12 @@ from voxposer.perception.observation import CameraFrame, Observation
 _SLOT_EPS = 1e-6
 
 
+def _frame_slot(time_s: float, frame_hz: float, index: int, cameras: int) -> int:
+    """Which frame period of camera ``index`` (of ``cameras``) simulated time ``time_s`` [s]
+    falls in; the cameras' periods are shifted by 1/``cameras`` of a period each."""
+    return math.floor(time_s * frame_hz + index / cameras + _SLOT_EPS)
+
+
 class _WorldSettings(ArmSettings, Protocol):
     """What the views read of the world's configuration (the arm's settings and the cameras)."""
 
@@ -100,25 +106,24 @@ class CameraViewsMixin(ArmStateMixin):
 
     def _latest_frame(self, index: int, name: str, width: int, height: int,
                       rgb: bool) -> CameraFrame:
-        """Camera ``name``'s (the ``index``-th camera's) frame for an observation now: its last
-        one while no new frame is due (same image size, colour when asked), else a new one."""
+        """Camera ``name``'s (the ``index``-th camera's) frame for an observation now: without a
+        frame rate a new one; with one, its last frame while no new frame is due (same image
+        size, colour when asked), else a new one."""
         cams = self.config.cameras
+        render = self._camera_renderer().render
+        if cams.frame_hz is None:
+            return render(self.data, f"{name}_camera", width, height, colour=rgb)
         now = float(self.data.time)
         held: dict[str, tuple[float, tuple[int, int, bool], CameraFrame]] = (
             self.__dict__.setdefault("_camera_frames", {}))
         last = held.get(name)
-        if cams.frame_hz is not None and last is not None:
+        if last is not None:
             when, (w, h, colour), frame = last
-            phase = index / len(cams.names) + _SLOT_EPS
-
-            def slot(t: float) -> int:
-                return math.floor(t * cams.frame_hz + phase)  # type: ignore[operator]
-
-            if when <= now and slot(when) == slot(now) and (w, h) == (width, height) and (
+            slots = (_frame_slot(t, cams.frame_hz, index, len(cams.names)) for t in (when, now))
+            if when <= now and len(set(slots)) == 1 and (w, h) == (width, height) and (
                     colour or not rgb):
                 return frame
-        frame = self._camera_renderer().render(self.data, f"{name}_camera", width, height,
-                                               colour=rgb)
+        frame = render(self.data, f"{name}_camera", width, height, colour=rgb)
         held[name] = (now, (width, height, rgb), frame)
         return frame
 
