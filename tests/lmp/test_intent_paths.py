@@ -12,6 +12,7 @@ import pytest
 from voxposer.lmp import make_tabletop_scene
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.intent import IntentChecks
+from voxposer.lmp.intent_paths import box_gap, compact_gap, is_compact
 
 EE_SPEED = 0.25  # m/s at speed scale 1
 
@@ -45,9 +46,41 @@ def test_away_between_two_blocks_is_measured_between_their_faces(checks: IntentC
     # the blue block's centre passes 8 cm from the green block's centre: 3 cm between faces
     path = line(green + np.array([-0.2, 0.08, 0.0]), green + np.array([0.2, 0.08, 0.0]), 20)
     executed(checks, path + np.array([0.0, 0.0, 0.05]), entity="blue block", entity_path=path)
-    assert not h["away"]("blue block", "green block").held  # default 5 cm
+    assert not h["away"]("blue block", "green block").held  # default 4 cm
     assert h["away"]("blue block", "green block", cm=2.5).held
     assert "closest 3.0 cm" in h["away"]("blue block", "green block").measured
+
+
+def test_two_blocks_corner_to_corner_are_as_far_apart_as_their_centres_say(
+        checks: IntentChecks) -> None:
+    """Centres 9.1 cm apart on the diagonal: the axis-aligned boxes are 2.1 cm apart at their
+    corners, the blocks (5 cm) 4.1 cm by their footprints' circles, as when side by side."""
+    h, scene = helpers(checks), checks.api.scene
+    green = scene.detect("green block").position
+    checks.begin_subtask("push the blue block past the green block")
+    off = 0.091 / np.sqrt(2.0)
+    turn = np.linspace(np.pi, 0.0, 60)  # half way round it, 9.1 cm from its centre
+    path = green + 0.091 * np.stack([np.cos(turn), np.sin(turn), 0.0 * turn], axis=1)
+    corner = np.array([off, off, 0.0]) + green
+    executed(checks, path + np.array([0.0, 0.0, 0.05]), entity="blue block", entity_path=path)
+    cond = h["away"]("blue block", "green block")
+    assert cond.held, cond.measured
+    assert "closest 4.1 cm" in cond.measured
+    # half a voxel short still counts (the perceived boxes' resolution), more does not
+    assert h["away"]("blue block", "green block", cm=4.5).held
+    assert not h["away"]("blue block", "green block", cm=4.7).held
+    assert box_gap(corner[None], *scene.detect("green block").aabb,
+                   np.full(3, 0.025))[0] == pytest.approx(0.021, abs=0.002)
+
+
+def test_compact_gap_ignores_a_turned_blocks_larger_box() -> None:
+    half = np.array([0.025, 0.025, 0.025])
+    lo, hi = np.array([-0.025, -0.025, 0.0]), np.array([0.025, 0.025, 0.05])
+    points = np.array([[0.09, 0.0, 0.025], [0.0, 0.0, 0.2], [0.0, 0.0, 0.025]])
+    assert compact_gap(points, half, lo, hi) == pytest.approx([0.04, 0.125, 0.0])
+    turned = np.array([0.0354, 0.0354, 0.025])  # the 45°-turned block's box
+    assert is_compact(-turned, turned) and is_compact(lo, hi)
+    assert not is_compact(np.zeros(3), np.array([0.3, 0.05, 0.1]))  # a line, a drawer
 
 
 def test_an_objects_path_between_replans_counts(checks: IntentChecks) -> None:

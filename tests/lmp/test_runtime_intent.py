@@ -103,3 +103,23 @@ def test_exact_object_names_resolve_without_the_model() -> None:
     slow = runtime(Backend(entries(FULL)), resolve_exact_names=False)
     slow.run(INSTRUCTION)
     assert slow.llm_calls > rt.llm_calls
+
+
+def test_a_post_condition_that_misses_a_constraint_is_sent_back_once() -> None:
+    """The plan measures only the end state of "staying away": the runtime asks again, naming
+    the missing away(...), and the corrected plan's conditions are the ones evaluated."""
+    end_only = FULL + "\nexpect(near('gripper', 'blue block', cm=12))"
+    measured = FULL + ("\nexpect(near('gripper', 'blue block', cm=12), "
+                       "away('gripper', 'green block', cm=5))")
+    backend = Backend(entries(end_only, measured))
+    rt = runtime(backend)
+    rt.run(INSTRUCTION)
+    planner_calls = [r for r in backend.requests if r.prefix_id == "planner"]
+    assert len(planner_calls) == 2
+    correction = planner_calls[1].messages[-1].content
+    assert correction.startswith(RETRY_PREFIX) and "away(" in correction
+    assert [r.condition for r in rt.intent.results] == [
+        "near('gripper', 'blue block', cm=12)", "away('gripper', 'green block', cm=5)"]
+    off = runtime(Backend(entries(end_only, measured)), intent_checklist=False)
+    off.run(INSTRUCTION)
+    assert [r.condition for r in off.intent.results] == ["near('gripper', 'blue block', cm=12)"]

@@ -131,28 +131,3 @@ def checklist_message(instruction: str, gaps: list[ClauseGap]) -> str:
                      "constraint: put each into the sub-task of the motion it constrains, as "
                      "one composer call ('move to ... while ...').")
     return " ".join(parts) + " Keep the other sub-tasks as they are."
-
-
-class PlanReview:
-    """The checklist over the attempts of one planner query: the first plan with gaps is sent
-    back once (:meth:`review` returns the correction); after that the plan with fewer gaps
-    runs — the correction, unless it left out more than the first."""
-
-    def __init__(self, instruction: str, max_attempts: int) -> None:
-        self.instruction = instruction
-        self.max_attempts = max_attempts
-        self._first: tuple[str, int] | None = None
-
-    def review(self, code: str, attempt: int) -> tuple[str, str | None, list[ClauseGap]]:
-        """(code to run, the correction to ask for or None, the gaps of ``code``)."""
-        subtasks = planned_subtasks(code)
-        if subtasks is None:  # a syntax error: running it reports that
-            return code, None, []
-        gaps = clause_gaps(self.instruction, subtasks)
-        if gaps and self._first is None and attempt < self.max_attempts:
-            self._first = (code, len(gaps))
-            return code, checklist_message(self.instruction, gaps), gaps
-        first, self._first = self._first, None
-        if first is not None and first[1] < len(gaps):
-            return first[0], None, gaps
-        return code, None, gaps

@@ -81,6 +81,8 @@ class LMPConfig:
             (its "unseen instruction" fold, :mod:`voxposer.lmp.prompt_tags`); None keeps all.
         clause_checklist: ask the planner once more when its sub-tasks leave out a clause of
             the instruction (:mod:`voxposer.lmp.checklist`).
+        intent_checklist: ask the planner once more when its post-conditions leave a
+            constraint of a sub-task unmeasured (:mod:`voxposer.lmp.intent_checklist`).
         resolve_exact_names: a ``parse_query_obj`` query that names a scene object exactly
             (after the synonym table) is answered ``ret_val = detect(<name>)`` without the
             model, recorded as a ``resolved`` transcript event.
@@ -95,6 +97,7 @@ class LMPConfig:
     sandbox: SandboxConfig = field(default_factory=SandboxConfig)
     held_out_task: str | None = None
     clause_checklist: bool = True
+    intent_checklist: bool = True
     resolve_exact_names: bool = True
 
     def __post_init__(self) -> None:

@@ -38,12 +38,12 @@ from voxposer.errors import (
 )
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
-from voxposer.lmp.checklist import PlanReview
 from voxposer.lmp.checks import check_result
 from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.intent import IntentChecks
+from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec
@@ -166,8 +166,10 @@ class LMPRuntime:
         messages = list(base)
         attempts: list[dict[str, str]] = []
         last: BaseException | None = None
-        review = PlanReview(query, self.config.max_attempts) \
-            if spec.name == "planner" and self.config.clause_checklist else None
+        review = PlanReview(query, self.config.max_attempts, clauses=self.config.clause_checklist,
+                            post_conditions=self.config.intent_checklist) \
+            if spec.name == "planner" and (self.config.clause_checklist
+                                           or self.config.intent_checklist) else None
         self._depth += 1
         try:
             for attempt in range(1, self.config.max_attempts + 1):
