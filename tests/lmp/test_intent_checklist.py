@@ -7,8 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from voxposer.bench.intent_reference import with_expectation
-from voxposer.bench.task import episode_rng
+from tests.lmp.reference_plans import reference_plans
 from voxposer.bench.tasks import TASKS
 from voxposer.lmp.intent_checklist import intent_gaps, intent_message, subtask_conditions
 
@@ -98,10 +97,5 @@ def test_the_planner_prompts_examples_have_no_gaps() -> None:
 
 @pytest.mark.parametrize("task", sorted(TASKS))
 def test_reference_plans_of_every_task_have_no_post_condition_gaps(task: str) -> None:
-    for split in ("seen", "unseen"):
-        for seed in range(4):
-            attrs = TASKS[task].sample_attributes(episode_rng(task, split, seed), split)
-            instruction = TASKS[task].instruction(attrs)
-            code = with_expectation(TASKS[task].reference(attrs), task, attrs).code(
-                "planner", instruction)
-            assert intent_gaps(code) == [], instruction
+    for instruction, code in reference_plans(task):
+        assert intent_gaps(code) == [], instruction
