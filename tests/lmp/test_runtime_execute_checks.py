@@ -29,6 +29,8 @@ ENTRIES = [
         "affordance_map[x, y, z] = 1\nret_val = affordance_map"]},
     {"lmp": "get_gripper_map", "query": "close everywhere", "responses": [
         "gripper_map = get_empty_gripper_map()\ngripper_map[:] = CLOSED\nret_val = gripper_map"]},
+    # the plan ends on the grasp, so the runtime appends the lift (plan_completion)
+    {"lmp": "composer", "query": "back to default pose", "responses": ["reset_to_default_pose()"]},
 ]
 
 

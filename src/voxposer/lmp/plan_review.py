@@ -20,7 +20,7 @@ from voxposer.lmp.intent_checklist import intent_gaps, intent_message
 POST_CONDITION: str = "post-condition"
 
 
-def _steps(code: str) -> list[tuple[str, str, list[str]]] | None:
+def plain_steps(code: str) -> list[tuple[str, str, list[str]]] | None:
     """A plan made only of ``composer('…')`` and ``expect(…)`` statements as (sub-task, its
     line, the expect lines after it); None for any other plan (loops, variables…)."""
     try:
@@ -48,7 +48,7 @@ def graft_conditions(plan: str, correction: str) -> str | None:
     """``plan``'s sub-tasks, in its order, each followed by the ``expect`` lines the
     ``correction`` states after the same sub-task (the plan's own where the correction has no
     such sub-task); None when either is not a plain sequence of composer/expect statements."""
-    ours, theirs = _steps(plan), _steps(correction)
+    ours, theirs = plain_steps(plan), plain_steps(correction)
     if ours is None or theirs is None:
         return None
     stated: dict[str, list[str]] = {}
@@ -119,4 +119,4 @@ class PlanReview:
         return (plan, None, gaps) if count < len(gaps) else (code, None, gaps)
 
 
-__all__ = ["POST_CONDITION", "PlanReview", "graft_conditions", "review_message"]
+__all__ = ["POST_CONDITION", "PlanReview", "graft_conditions", "plain_steps", "review_message"]

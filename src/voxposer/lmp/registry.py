@@ -83,6 +83,9 @@ class LMPConfig:
             the instruction (:mod:`voxposer.lmp.checklist`).
         intent_checklist: ask the planner once more when its post-conditions leave a
             constraint of a sub-task unmeasured (:mod:`voxposer.lmp.intent_checklist`).
+        lift_after_grasp: a plan whose last sub-task grasps a free object gets
+            ``composer('back to default pose')`` appended, so the object leaves the table
+            (:mod:`voxposer.lmp.plan_completion`).
         resolve_exact_names: a ``parse_query_obj`` query that names a scene object exactly
             (after the synonym table) is answered ``ret_val = detect(<name>)`` without the
             model, recorded as a ``resolved`` transcript event.
@@ -98,6 +101,7 @@ class LMPConfig:
     held_out_task: str | None = None
     clause_checklist: bool = True
     intent_checklist: bool = True
+    lift_after_grasp: bool = True
     resolve_exact_names: bool = True
 
     def __post_init__(self) -> None:

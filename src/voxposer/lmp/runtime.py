@@ -43,6 +43,7 @@ from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.intent import IntentChecks
+from voxposer.lmp.plan_completion import LIFT_SUBTASK, lift_after_grasp
 from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
@@ -185,6 +186,12 @@ class LMPRuntime:
                         messages += [ChatMessage("assistant", text),
                                      ChatMessage("user", RETRY_MESSAGE.format(error=gap_message))]
                         continue
+                if spec.name == "planner" and self.config.lift_after_grasp \
+                        and (completed := lift_after_grasp(code)) is not None:
+                    code = completed
+                    self.transcript.write("plan_completed", query=query, attempt=attempt,
+                                          added=f"composer({LIFT_SUBTASK!r})",
+                                          why="the plan ended on a grasp of a free object")
                 effects = self._side_effects
                 try:
                     value = self._evaluate(spec, query, code, attempt=attempt, replay=False)

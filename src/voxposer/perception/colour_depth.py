@@ -28,6 +28,7 @@ from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.detect import DetectedObject, detect_in_cloud
 from voxposer.perception.names import match_name
 from voxposer.perception.observation import Observation
+from voxposer.perception.occlusion_memory import REMEMBERED_KINDS, OcclusionMemory
 from voxposer.perception.perceiver import ObservationSource
 from voxposer.perception.pixel_labels import PixelLabels, label_pixels
 from voxposer.perception.point_cloud import PointCloud
@@ -58,6 +59,9 @@ class ColourDepthPerceiver:
         self._known: dict[str, None] = dict.fromkeys(_FIXED)
         self._openings: dict[str, float] = {}
         self._tracks: dict[str, NDArray[np.float64]] = {}
+        #: the parts of blocks and lines other objects hide now (a block on a line's end)
+        self._memory = OcclusionMemory()
+        self._detections: dict[str, DetectedObject] = {}
         #: time [ms] each labelling took (one per new observation)
         self.label_times_ms: list[float] = []
 
@@ -75,7 +79,7 @@ class ColourDepthPerceiver:
     def observe(self) -> Observation:
         obs = self.source.observe(rgb=True)
         if obs is not self._obs:
-            self._obs, self._labels = obs, None
+            self._obs, self._labels, self._detections = obs, None, {}
         return obs
 
     def _labelled(self) -> PixelLabels:
@@ -122,11 +126,19 @@ class ColourDepthPerceiver:
         """
         canonical = match_name(name, self.object_names)
         cloud = self.point_cloud()
+        if canonical in self._detections:  # once per observation (the memory moves on)
+            return self._detections[canonical]
         members = set(catalog.family(canonical))
         labels = np.asarray([k for k, n in enumerate(_LABEL_NAMES) if n in members],
                             dtype=np.int32)
-        sliding = catalog.object_named(canonical).kind in catalog.SLIDING_KINDS
-        return detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
+        kind = catalog.object_named(canonical).kind
+        found = detect_in_cloud(cloud, labels, canonical, self._grid,
+                                horizontal_normal=kind in catalog.SLIDING_KINDS)
+        if kind in REMEMBERED_KINDS:
+            obs = self.observe()
+            found = self._memory.extend(found, obs.cameras, self._grid, obs.time)
+        self._detections[canonical] = found
+        return found
 
     def scene_occupancy(self, entity: str, *, holding: bool, ignore_table: bool = False
                         ) -> NDArray[np.bool_]:

@@ -71,8 +71,14 @@ def detect_in_cloud(cloud: PointCloud, labels: NDArray[np.int32], name: str,
     mask = np.isin(cloud.labels, labels)
     if not np.any(mask):
         raise ObjectNotVisibleError(f"the {name} is in the scene but no camera sees it")
-    pts = cloud.points[mask]
-    nrm = cloud.normals[mask]
+    return object_from_points(name, cloud.points[mask], cloud.normals[mask], grid,
+                              horizontal_normal=horizontal_normal)
+
+
+def object_from_points(name: str, pts: NDArray[np.float64], nrm: NDArray[np.float64],
+                       grid: VoxelGrid, *, horizontal_normal: bool = False) -> DetectedObject:
+    """The :class:`DetectedObject` made of ``pts`` (N ≥ 1, 3) [m] with normals ``nrm`` (N, 3)
+    (see :func:`detect_in_cloud` for the normal)."""
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     valid = np.linalg.norm(nrm, axis=1) > 0.5
     if horizontal_normal and np.any(valid & (np.abs(nrm[:, 2]) < 0.5)):

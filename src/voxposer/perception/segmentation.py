@@ -15,6 +15,7 @@ from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.detect import DetectedObject, detect_in_cloud
 from voxposer.perception.names import match_name
 from voxposer.perception.observation import Observation
+from voxposer.perception.occlusion_memory import REMEMBERED_KINDS, OcclusionMemory
 from voxposer.perception.perceiver import ObservationSource
 from voxposer.perception.point_cloud import DepthView, PointCloud, fuse_views
 from voxposer.perception.scene_occupancy import scene_occupancy
@@ -39,6 +40,8 @@ class SegmentationPerceiver:
         self._detections: dict[str, DetectedObject] = {}
         #: each camera's last view and its points (a view not renewed is not lifted again)
         self._views: dict[int, tuple[DepthView, PointCloud]] = {}
+        #: the parts of blocks and lines other objects hide now (a block on a line's end)
+        self._memory = OcclusionMemory()
 
     @property
     def grid(self) -> VoxelGrid:
@@ -75,8 +78,12 @@ class SegmentationPerceiver:
         known = canonical in names and _in_catalog(canonical)  # other scenes: parts stand alone
         members = set(catalog.family(canonical)) if known else {canonical}
         labels = np.asarray([k for k, n in enumerate(names) if n in members], dtype=np.int32)
-        sliding = known and catalog.object_named(canonical).kind in catalog.SLIDING_KINDS
+        kind = catalog.object_named(canonical).kind if known else None
+        sliding = kind in catalog.SLIDING_KINDS
         found = detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
+        if kind in REMEMBERED_KINDS:
+            obs = self.observe()
+            found = self._memory.extend(found, obs.cameras, self._grid, obs.time)
         self._detections[canonical] = found
         return found
 

@@ -28,6 +28,7 @@ from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.detect import DetectedObject, detect_in_cloud
 from voxposer.perception.names import match_name, normalize_name
 from voxposer.perception.observation import Observation
+from voxposer.perception.occlusion_memory import REMEMBERED_KINDS, OcclusionMemory
 from voxposer.perception.open_vocab.detector import Detector
 from voxposer.perception.open_vocab.fusion import (
     Instance,
@@ -91,6 +92,9 @@ class OpenVocabPerceiver:
         self._instances: tuple[Instance, ...] = ()
         self._cloud: PointCloud | None = None
         self._redetect = True
+        #: the parts of blocks and lines other objects hide now (a block on a line's end)
+        self._memory = OcclusionMemory()
+        self._detections: dict[str, DetectedObject] = {}
         #: how many times the detector ran (over every camera of one observation)
         self.detector_runs = 0
         #: per stage (:data:`STAGES`), the time [ms] of each run
@@ -114,6 +118,8 @@ class OpenVocabPerceiver:
     def reset(self) -> None:
         """Forget the tracked objects; the detector runs on the next observation."""
         self._instances, self._cloud, self._redetect = (), None, True
+        self._memory.forget()
+        self._detections = {}
 
     @property
     def instances(self) -> tuple[Instance, ...]:
@@ -129,7 +135,7 @@ class OpenVocabPerceiver:
     def observe(self) -> Observation:
         obs = self.source.observe(rgb=True)
         if obs is not self._obs:
-            self._obs, self._cloud = obs, None
+            self._obs, self._cloud, self._detections = obs, None, {}
         return obs
 
     def _timed(self, stage: str, start: float) -> None:
@@ -209,8 +215,16 @@ class OpenVocabPerceiver:
         members = set(catalog.family(canonical)) if canonical in DEFAULT_QUERIES else set()
         members.add(canonical)
         labels = np.asarray([k for k, n in enumerate(names) if n in members], dtype=np.int32)
-        sliding = _kind(canonical) in catalog.SLIDING_KINDS
-        return detect_in_cloud(cloud, labels, canonical, self._grid, horizontal_normal=sliding)
+        if canonical in self._detections:  # once per fused cloud (the memory moves on)
+            return self._detections[canonical]
+        kind = _kind(canonical)
+        found = detect_in_cloud(cloud, labels, canonical, self._grid,
+                                horizontal_normal=kind in catalog.SLIDING_KINDS)
+        if kind in REMEMBERED_KINDS:
+            obs = self.observe()
+            found = self._memory.extend(found, obs.cameras, self._grid, obs.time)
+        self._detections[canonical] = found
+        return found
 
     def scene_occupancy(self, entity: str, *, holding: bool, ignore_table: bool = False
                         ) -> NDArray[np.bool_]:

@@ -1,0 +1,59 @@
+"""A plan that ends on a grasp of a free object is completed with a lift before it runs."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.lmp.test_runtime_intent import Backend, runtime
+from voxposer.lmp.plan_completion import lift_after_grasp
+
+GRASP = ("composer('grasp the purple block while moving at 3x speed')\n"
+         "expect(holding('purple block'), speed('gripper', 3))")
+
+
+def test_a_final_grasp_of_a_block_is_lifted() -> None:
+    assert lift_after_grasp(GRASP) == GRASP + "\ncomposer('back to default pose')"
+
+
+@pytest.mark.parametrize("plan", [
+    GRASP + "\ncomposer('back to default pose')",  # lifted already
+    "composer('grasp the blue block')\ncomposer('move the blue block to the left side of the table')",
+    "composer('grasp the top drawer handle')",  # a fixture's part: lifting would pull on it
+    "composer('pick up the door handle')",
+    "composer('move to the top of the blue block')",
+    "for _ in range(2):\n    composer('grasp the blue block')",  # not a plain plan
+    "",
+])
+def test_other_plans_are_left_alone(plan: str) -> None:
+    assert lift_after_grasp(plan) is None
+
+
+def _grasp_entries() -> list[dict]:
+    return [
+        {"lmp": "planner", "query": "pick up the blue block", "responses": [
+            "composer('grasp the blue block')\nexpect(holding('blue block'))"]},
+        {"lmp": "composer", "query": "grasp the blue block", "responses": [
+            "movable = parse_query_obj('gripper')\n"
+            "affordance_map = get_affordance_map('the blue block')\n"
+            "execute(movable, affordance_map=affordance_map)"]},
+        {"lmp": "composer", "query": "back to default pose", "responses": [
+            "reset_to_default_pose()"]},
+        {"lmp": "parse_query_obj", "query": "gripper", "responses": ["ret_val = detect('gripper')"]},
+        {"lmp": "get_affordance_map", "query": "the blue block", "responses": [
+            "affordance_map = get_empty_affordance_map()\n"
+            "block = parse_query_obj('blue block')\n"
+            "affordance_map[block.position] = 1\nret_val = affordance_map"]},
+        {"lmp": "parse_query_obj", "query": "blue block", "responses": [
+            "ret_val = detect('blue block')"]},
+    ]
+
+
+def test_the_runtime_lifts_after_a_final_grasp_and_says_so() -> None:
+    rt = runtime(Backend(_grasp_entries()))
+    rt.run("pick up the blue block")
+    assert rt.handler.resets == 1, "the appended 'back to default pose' ran"
+    (event,) = [e for e in rt.transcript.events if e["event"] == "plan_completed"]
+    assert event["added"] == "composer('back to default pose')"
+    off = runtime(Backend(_grasp_entries()), lift_after_grasp=False)
+    off.run("pick up the blue block")
+    assert off.handler.resets == 0
