@@ -1,11 +1,11 @@
-"""A plan that ends on a grasp of a free object is completed with a lift before it runs."""
+"""Plans completed before they run: a final grasp is lifted, a lone drop is grasped first."""
 
 from __future__ import annotations
 
 import pytest
 
 from tests.lmp.test_runtime_intent import Backend, runtime
-from voxposer.lmp.plan_completion import lift_after_grasp
+from voxposer.lmp.plan_completion import grasp_before_drop, lift_after_grasp
 
 GRASP = ("composer('grasp the purple block while moving at 3x speed')\n"
          "expect(holding('purple block'), speed('gripper', 3))")
@@ -57,3 +57,41 @@ def test_the_runtime_lifts_after_a_final_grasp_and_says_so() -> None:
     off = runtime(Backend(_grasp_entries()), lift_after_grasp=False)
     off.run("pick up the blue block")
     assert off.handler.resets == 0
+
+
+DROP_PLAN = ("composer('grasp the pink block')\ncomposer('back to default pose')\n"
+             "composer('move the pink block to a point 9cm above the right side of the table')\n"
+             "composer('release the pink block')")
+
+
+@pytest.mark.parametrize("subtask", [
+    "release the pink block over the right side of the table",
+    "drop the pink block at the right side of the table",
+    "put the pink block down on the right side of the table",
+    "let the pink block fall onto the right side of the table",
+])
+def test_a_drop_of_an_object_never_grasped_becomes_grasp_lift_carry_release(subtask: str) -> None:
+    plan = f"composer({subtask!r})\nexpect(on('pink block', 'table', 'right side'))"
+    assert grasp_before_drop(plan) == DROP_PLAN + "\nexpect(on('pink block', 'table', 'right side'))"
+
+
+@pytest.mark.parametrize("plan", [
+    DROP_PLAN,  # grasped first: the examples' plan
+    "composer('grab the pink block')\ncomposer('drop the pink block at the back side of the table')",
+    "composer('release the top drawer handle')",  # no place
+    "composer('put the top drawer handle on the back side of the table')",  # a fixture's part
+    "composer('move to the back left corner of the table')",
+    "for _ in range(2):\n    composer('drop the blue block on the table')",  # not a plain plan
+])
+def test_drops_after_a_grasp_and_other_plans_are_left_alone(plan: str) -> None:
+    assert grasp_before_drop(plan) is None
+
+
+def test_the_runtime_grasps_before_a_lone_drop_and_says_so() -> None:
+    entries = [{"lmp": "planner", "query": "release the blue block over the table", "responses": [
+        "composer('release the blue block over the table')"]}]
+    rt = runtime(Backend(entries))
+    with pytest.raises(Exception, match="grasp the blue block"):  # the replay has no composer
+        rt.run("release the blue block over the table")
+    (event,) = [e for e in rt.transcript.events if e["event"] == "plan_completed"]
+    assert event["why"] == "a sub-task drops an object the plan never grasped"

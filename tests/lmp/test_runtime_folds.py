@@ -81,7 +81,8 @@ def test_fold_requests_lack_the_held_out_examples_and_use_their_own_prefix_id(
 def test_default_requests_are_the_full_prompts() -> None:
     for request in run(None):
         prompt = load_prompt(lmp(request))
-        assert request.messages[:-1] == prompt.messages("")[:-1]
+        n = prompt.n_prefix_messages  # then the bank examples chosen for the query (if any)
+        assert request.messages[:n] == prompt.messages("")[:n]
 
 
 def test_runtime_rejects_a_fold_that_empties_a_prompt_before_running(tmp_path: Path) -> None:

@@ -1,4 +1,4 @@
-"""Plans completed before they run: a plan that ends on a grasp of a free object lifts it.
+"""Plans completed before they run: a grasp of a free object is lifted, a drop is grasped first.
 
 The planner's examples follow every grasp of a block with a motion ("back to default pose" or a
 move elsewhere); the 1.5B model sometimes stops right after the grasp, so the fingers close on
@@ -10,6 +10,13 @@ addition as a ``plan_completed`` transcript event.
 Only plain plans (``composer`` and ``expect`` statements) whose last sub-task grasps something
 that is not part of a fixture (a handle, a drawer, a door…: lifting those would pull on them)
 are completed.
+
+A drop is several motions — the planner's examples grasp the object, lift it, carry it over the
+place, open the hand — but a reworded "release the pink block over the right side of the table"
+is sometimes planned as that one sub-task, which no single ``execute`` can do (the hand is not
+holding the block). :func:`grasp_before_drop` replaces a sub-task that drops, releases or puts a
+free object at a place, when no earlier sub-task grasped it, by the examples' own sequence
+(:func:`drop_subtasks`); the sub-task's ``expect`` lines stay after the release.
 """
 
 from __future__ import annotations
@@ -23,6 +30,13 @@ from voxposer.lmp.plan_review import plain_steps
 LIFT_SUBTASK: Final = "back to default pose"
 #: how a grasping sub-task begins.
 _GRASP: Final = re.compile(r"^\s*(?:grasp|grab|pick(?:\s+up)?|take|seize|hold|lift)\b", re.I)
+#: a sub-task that lets an object go at a place: (object, place).
+_DROP: Final = re.compile(
+    r"^\s*(?:drop|release|put|place|set|lay|let go of|let)\s+(?:the\s+)?(?P<obj>[\w ]+?)"
+    r"\s+(?:down\s+|go\s+|fall\s+)?(?:at|on|onto|over|above|to|into|in)\s+(?:the\s+)?"
+    r"(?P<place>[\w ]+?)\s*\.?$", re.I)
+#: how high above the place the object is carried before the hand opens [cm] (the examples').
+CARRY_CM: Final = 9
 #: words of things fixed to the scene: grasped to pull or turn them, never to lift.
 _FIXED_PARTS: Final = re.compile(
     r"\b(?:handle|drawer|door|window|fridge|cabinet|knob|lever|lid|latch)s?\b", re.I)
@@ -40,4 +54,33 @@ def lift_after_grasp(code: str) -> str | None:
     return f"{code.rstrip()}\ncomposer({LIFT_SUBTASK!r})"
 
 
-__all__ = ["LIFT_SUBTASK", "lift_after_grasp"]
+def drop_subtasks(obj: str, place: str) -> list[str]:
+    """The planner examples' sub-tasks for dropping ``obj`` at ``place``, release last."""
+    return [f"grasp the {obj}", LIFT_SUBTASK, f"move the {obj} to a point {CARRY_CM}cm above the "
+            f"{place}", f"release the {obj}"]
+
+
+def grasp_before_drop(code: str) -> str | None:
+    """``code`` with each sub-task that drops a free object it never grasped replaced by
+    :func:`drop_subtasks` (module docs); None when it needs nothing."""
+    steps = plain_steps(code)
+    if not steps:
+        return None
+    lines: list[str] = []
+    grasped: list[str] = []
+    changed = False
+    for subtask, line, expects in steps:
+        drop = _DROP.match(subtask)
+        obj = drop.group("obj").strip().lower() if drop else ""
+        if drop and not _FIXED_PARTS.search(obj) and not any(obj in g for g in grasped):
+            lines += [f"composer({s!r})" for s in drop_subtasks(obj, drop.group("place"))]
+            changed = True
+        else:
+            lines.append(line)
+        if _GRASP.match(subtask):
+            grasped.append(subtask.lower())
+        lines += expects
+    return "\n".join(lines) if changed else None
+
+
+__all__ = ["CARRY_CM", "LIFT_SUBTASK", "drop_subtasks", "grasp_before_drop", "lift_after_grasp"]

@@ -7,6 +7,11 @@ direction table). Each ``user``/``assistant`` pair is one example; the query is 
 last user message. Every ``### user`` line says which benchmark tasks its example demonstrates
 (see :mod:`voxposer.lmp.prompt_tags`); :meth:`Prompt.without_task` removes them for an "unseen
 instruction" fold. Tags live on the marker lines, so the rendered messages do not contain them.
+
+An LMP may also have an example *bank*, ``prompts/banks/<lmp>.txt`` (the same markers and tags,
+no system section): :meth:`Prompt.messages` places the bank examples nearest to the query after
+the fixed ones (:mod:`voxposer.lmp.retrieval`), and a fold leaves out the bank's examples of its
+task too.
 """
 
 from __future__ import annotations
@@ -20,9 +25,14 @@ from typing import Final, NamedTuple
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import ChatMessage
 from voxposer.lmp.prompt_tags import MARKER_LIKE, check_task, fold_prefix_id, parse_marker
+from voxposer.lmp.retrieval import ExampleBank, example_query
 
 API_MARKER: Final = "<<API_REFERENCE>>"
 API_FILE: Final = "api_reference.txt"
+#: Sub-folder of a prompt directory with the example banks (``banks/<lmp>.txt``).
+BANK_DIR: Final = "banks"
+#: The bank of a prompt without one.
+NO_BANK: Final = ExampleBank(())
 #: First line of the user message that feeds an error back to the model (self-correction).
 RETRY_PREFIX: Final = "Running your code failed:"
 QUERY_PREFIX: Final = "# Query: "
@@ -46,17 +56,28 @@ class Prompt:
         examples: the few-shot examples, in file order.
         held_out: the task whose examples :meth:`without_task` removed (None: the default
             prompt, or a fold that removed nothing from it).
+        bank: more examples, chosen per query (:mod:`voxposer.lmp.retrieval`); empty: none.
     """
 
     name: str
     system: str
     examples: tuple[Example, ...]
     held_out: str | None = None
+    bank: ExampleBank = NO_BANK
 
-    def messages(self, query_message: str) -> tuple[ChatMessage, ...]:
-        """System, the examples as alternating turns, then ``query_message`` as the last user turn."""
+    @property
+    def n_prefix_messages(self) -> int:
+        """How many leading messages of :meth:`messages` are the same for every query (the
+        system message and the fixed examples): the prefix a backend may keep evaluated."""
+        return 1 + 2 * len(self.examples)
+
+    def messages(self, query_message: str, retrieved: int = 0) -> tuple[ChatMessage, ...]:
+        """System, the fixed examples, the ``retrieved`` bank examples nearest to the query
+        (nearest last), each as a user and an assistant turn, then ``query_message`` as the
+        last user turn."""
+        chosen = self.bank.nearest(example_query(Example(query_message, "")), retrieved)
         out = [ChatMessage("system", self.system)]
-        for example in self.examples:
+        for example in self.examples + chosen:
             out += [ChatMessage("user", example.user), ChatMessage("assistant", example.assistant)]
         out.append(ChatMessage("user", query_message))
         return tuple(out)
@@ -73,8 +94,8 @@ class Prompt:
         return fold_prefix_id(self.name, self.held_out)
 
     def without_task(self, task: str) -> Prompt:
-        """This prompt minus exactly the examples tagged with ``task`` (the "unseen instruction"
-        fold of ``task``); ``self`` when none is tagged with it.
+        """This prompt minus exactly the examples tagged with ``task``, fixed and banked (the
+        "unseen instruction" fold of ``task``); ``self`` when none is tagged with it.
 
         Raises:
             ConfigError: ``task`` is not a benchmark task (the message lists them), or every
@@ -82,15 +103,39 @@ class Prompt:
         """
         check_task(task)
         kept = tuple(e for e in self.examples if task not in e.tasks)
-        if len(kept) == len(self.examples):
+        bank = self.bank.without_task(task)
+        if len(kept) == len(self.examples) and bank is self.bank:
             return self
         if not kept:
             raise ConfigError(f"holding out task {task!r} leaves the prompt of LMP "
                               f"{self.name!r} with no few-shot example: all "
                               f"{len(self.examples)} are tagged with it; add an example that "
                               f"does not demonstrate {task!r}")
+        if len(kept) == len(self.examples):  # only the bank lost examples: same prefix
+            return replace(self, bank=bank)
         held = task if self.held_out is None else f"{self.held_out}+{task}"
-        return replace(self, examples=kept, held_out=held)
+        return replace(self, examples=kept, held_out=held, bank=bank)
+
+
+def _sections(name: str, text: str, api: str) -> list[tuple[str, frozenset[str], str]]:
+    """(role, tasks, body) of each marked section of ``text``."""
+    markers = list(MARKER_LIKE.finditer(text))
+    sections: list[tuple[str, frozenset[str], str]] = []
+    for i, m in enumerate(markers):
+        where = f"prompt {name!r} line {text.count(chr(10), 0, m.start()) + 1}"
+        role, tasks = parse_marker(m.group(0), where)
+        end = markers[i + 1].start() if i + 1 < len(markers) else len(text)
+        sections.append((role, tasks, text[m.end():end].replace(API_MARKER, api).strip()))
+    return sections
+
+
+def _examples(name: str, turns: list[tuple[str, frozenset[str], str]]) -> tuple[Example, ...]:
+    roles = [role for role, _, _ in turns]
+    if roles != ["user", "assistant"] * (len(turns) // 2) or len(turns) % 2:
+        raise ConfigError(f"prompt {name!r}: examples must alternate '### user' and "
+                          f"'### assistant'; got {roles}")
+    return tuple(Example(turns[i][2], turns[i + 1][2], turns[i][1])
+                 for i in range(0, len(turns), 2))
 
 
 def parse_prompt(name: str, text: str, api_reference: str = "") -> Prompt:
@@ -100,24 +145,23 @@ def parse_prompt(name: str, text: str, api_reference: str = "") -> Prompt:
         ConfigError: no system section, user/assistant turns that do not pair up, or a
             malformed marker line or task tag (:func:`~voxposer.lmp.prompt_tags.parse_marker`).
     """
-    api = api_reference.strip()
-    markers = list(MARKER_LIKE.finditer(text))
-    sections: list[tuple[str, frozenset[str], str]] = []
-    for i, m in enumerate(markers):
-        where = f"prompt {name!r} line {text.count(chr(10), 0, m.start()) + 1}"
-        role, tasks = parse_marker(m.group(0), where)
-        end = markers[i + 1].start() if i + 1 < len(markers) else len(text)
-        sections.append((role, tasks, text[m.end():end].replace(API_MARKER, api).strip()))
+    sections = _sections(name, text, api_reference.strip())
     if not sections or sections[0][0] != "system":
         raise ConfigError(f"prompt {name!r} must start with a '### system' section")
-    turns = sections[1:]
-    roles = [role for role, _, _ in turns]
-    if roles != ["user", "assistant"] * (len(turns) // 2) or len(turns) % 2:
-        raise ConfigError(f"prompt {name!r}: examples must alternate '### user' and "
-                          f"'### assistant'; got {roles}")
-    examples = tuple(Example(turns[i][2], turns[i + 1][2], turns[i][1])
-                     for i in range(0, len(turns), 2))
-    return Prompt(name, sections[0][2], examples)
+    return Prompt(name, sections[0][2], _examples(name, sections[1:]))
+
+
+def parse_bank(name: str, text: str) -> ExampleBank:
+    """Parse the example bank ``text`` of LMP ``name``: tagged user/assistant examples only.
+
+    Raises:
+        ConfigError: a system section, turns that do not pair up, or a malformed marker line.
+    """
+    sections = _sections(f"{name} bank", text, "")
+    if any(role == "system" for role, _, _ in sections):
+        raise ConfigError(f"the example bank of LMP {name!r} has a '### system' section; a bank "
+                          "holds only '### user' / '### assistant' examples")
+    return ExampleBank(_examples(f"{name} bank", sections))
 
 
 def load_prompt(name: str, directory: str | Path | None = None,
@@ -130,18 +174,16 @@ def load_prompt(name: str, directory: str | Path | None = None,
     """
     if held_out_task is not None:
         check_task(held_out_task)
-    if directory is None:
-        root = resources.files("voxposer.lmp") / "prompts"
-        text = (root / f"{name}.txt").read_text(encoding="utf-8")
-        api = (root / API_FILE).read_text(encoding="utf-8")
-    else:
-        d = Path(directory)
-        if not (d / f"{name}.txt").is_file():
-            raise ConfigError(f"no prompt file {name}.txt in {d}")
-        text = (d / f"{name}.txt").read_text(encoding="utf-8")
-        api_file = d / API_FILE
-        api = api_file.read_text(encoding="utf-8") if api_file.is_file() else ""
+    root = resources.files("voxposer.lmp") / "prompts" if directory is None else Path(directory)
+    if not (root / f"{name}.txt").is_file():
+        raise ConfigError(f"no prompt file {name}.txt in {root}")
+    text = (root / f"{name}.txt").read_text(encoding="utf-8")
+    api_file = root / API_FILE
+    api = api_file.read_text(encoding="utf-8") if api_file.is_file() else ""
     prompt = parse_prompt(name, text, api)
+    bank_file = root / BANK_DIR / f"{name}.txt"
+    if bank_file.is_file():
+        prompt = replace(prompt, bank=parse_bank(name, bank_file.read_text(encoding="utf-8")))
     return prompt if held_out_task is None else prompt.without_task(held_out_task)
 
 

@@ -86,9 +86,14 @@ class LMPConfig:
         lift_after_grasp: a plan whose last sub-task grasps a free object gets
             ``composer('back to default pose')`` appended, so the object leaves the table
             (:mod:`voxposer.lmp.plan_completion`).
+        grasp_before_drop: a plan sub-task that drops a free object no earlier sub-task
+            grasped becomes the examples' grasp, lift, carry and release
+            (:func:`~voxposer.lmp.plan_completion.grasp_before_drop`).
         resolve_exact_names: a ``parse_query_obj`` query that names a scene object exactly
             (after the synonym table) is answered ``ret_val = detect(<name>)`` without the
             model, recorded as a ``resolved`` transcript event.
+        retrieved_examples: how many examples of an LMP's example bank, the nearest to the
+            query, follow its fixed examples (:mod:`voxposer.lmp.retrieval`; 0: none).
     """
 
     max_attempts: int = 3
@@ -102,12 +107,17 @@ class LMPConfig:
     clause_checklist: bool = True
     intent_checklist: bool = True
     lift_after_grasp: bool = True
+    grasp_before_drop: bool = True
     resolve_exact_names: bool = True
+    retrieved_examples: int = 2
 
     def __post_init__(self) -> None:
         if self.held_out_task is not None and self.held_out_task not in TASK_NAMES:
             raise ConfigError(f"LMPConfig.held_out_task must be a benchmark task or None; got "
                               f"{self.held_out_task!r}; tasks are: {', '.join(TASK_NAMES)}")
+        if not (isinstance(self.retrieved_examples, int) and 0 <= self.retrieved_examples <= 8):
+            raise ConfigError(f"LMPConfig.retrieved_examples must be an int in [0, 8]; got "
+                              f"{self.retrieved_examples!r}")
         if not (isinstance(self.max_attempts, int) and 1 <= self.max_attempts <= 10):
             raise ConfigError(f"LMPConfig.max_attempts must be an int in [1, 10]; got "
                               f"{self.max_attempts!r}")

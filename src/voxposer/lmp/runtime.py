@@ -43,7 +43,7 @@ from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.intent import IntentChecks
-from voxposer.lmp.plan_completion import LIFT_SUBTASK, lift_after_grasp
+from voxposer.lmp.plan_completion import LIFT_SUBTASK, grasp_before_drop, lift_after_grasp
 from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
@@ -162,8 +162,10 @@ class LMPRuntime:
             raise ProgramError(f"LMP calls nested deeper than {self.config.max_depth} "
                                f"({spec.name}({query!r})); do not call LMPs recursively")
         prompt = self.prompt(spec.name)
-        base = prompt.messages(query_message(spec, query, self.scene.object_names))
-        self.transcript.prompt_once(spec.name, [asdict(m) for m in base[:-1]])
+        base = prompt.messages(query_message(spec, query, self.scene.object_names),
+                               retrieved=self.config.retrieved_examples)
+        n_prefix = prompt.n_prefix_messages
+        self.transcript.prompt_once(spec.name, [asdict(m) for m in base[:n_prefix]])
         messages = list(base)
         attempts: list[dict[str, str]] = []
         last: BaseException | None = None
@@ -174,7 +176,7 @@ class LMPRuntime:
         self._depth += 1
         try:
             for attempt in range(1, self.config.max_attempts + 1):
-                text = self._complete(spec, query, messages, n_prefix=len(base) - 1,
+                text = self._complete(spec, query, messages, n_prefix=n_prefix,
                                       attempt=attempt)
                 code = extract_code(text)
                 if review is not None:
@@ -186,12 +188,8 @@ class LMPRuntime:
                         messages += [ChatMessage("assistant", text),
                                      ChatMessage("user", RETRY_MESSAGE.format(error=gap_message))]
                         continue
-                if spec.name == "planner" and self.config.lift_after_grasp \
-                        and (completed := lift_after_grasp(code)) is not None:
-                    code = completed
-                    self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                          added=f"composer({LIFT_SUBTASK!r})",
-                                          why="the plan ended on a grasp of a free object")
+                if spec.name == "planner":
+                    code = self._complete_plan(query, code, attempt)
                 effects = self._side_effects
                 try:
                     value = self._evaluate(spec, query, code, attempt=attempt, replay=False)
@@ -219,11 +217,27 @@ class LMPRuntime:
             self._depth -= 1
         raise give_up(spec.name, query, attempts, last) from last
 
+    def _complete_plan(self, query: str, code: str, attempt: int) -> str:
+        """The planner's ``code`` completed as :mod:`voxposer.lmp.plan_completion` says (each
+        completion recorded as a ``plan_completed`` transcript event)."""
+        if self.config.grasp_before_drop and (done := grasp_before_drop(code)) is not None:
+            self.transcript.write("plan_completed", query=query, attempt=attempt,
+                                  added="grasp, lift and carry before the release",
+                                  why="a sub-task drops an object the plan never grasped")
+            code = done
+        if self.config.lift_after_grasp and (done := lift_after_grasp(code)) is not None:
+            self.transcript.write("plan_completed", query=query, attempt=attempt,
+                                  added=f"composer({LIFT_SUBTASK!r})",
+                                  why="the plan ended on a grasp of a free object")
+            code = done
+        return code
+
     def _complete(self, spec: LMPSpec, query: str, messages: list[ChatMessage], n_prefix: int,
                   attempt: int) -> str:
         request = LLMRequest(messages=tuple(messages), temperature=self.config.temperature,
                              max_tokens=self.config.max_tokens, stop=self.config.stop,
-                             prefix_id=self.prompt(spec.name).prefix_id)
+                             prefix_id=self.prompt(spec.name).prefix_id,
+                             prefix_messages=n_prefix if n_prefix < len(messages) - 1 else None)
         self.llm_calls += 1
         start = time.monotonic()
         response = self.backend.complete(request)

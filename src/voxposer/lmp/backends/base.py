@@ -34,6 +34,8 @@ class LLMRequest:
         stop: stop sequences.
         prefix_id: optional name of the reusable few-shot prefix (e.g. the LMP name); backends
             that can keep the prefix's state (KV cache) use it, others ignore it.
+        prefix_messages: how many leading messages form that prefix (None: all but the last);
+            examples chosen per query come after it.
     """
 
     messages: tuple[ChatMessage, ...]
@@ -41,10 +43,15 @@ class LLMRequest:
     max_tokens: int = 512
     stop: tuple[str, ...] = ()
     prefix_id: str | None = None
+    prefix_messages: int | None = None
 
     def key(self, backend: str, model: str) -> str:
-        """Stable sha256 of backend + model + the full request."""
-        payload = {"backend": backend, "model": model, "request": asdict(self)}
+        """Stable sha256 of backend + model + the full request (a ``prefix_messages`` of None
+        is left out, so keys recorded before the field existed still match)."""
+        request = asdict(self)
+        if self.prefix_messages is None:
+            del request["prefix_messages"]
+        payload = {"backend": backend, "model": model, "request": request}
         blob = json.dumps(payload, sort_keys=True, ensure_ascii=False).encode()
         return hashlib.sha256(blob).hexdigest()
 

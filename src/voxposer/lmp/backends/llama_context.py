@@ -45,15 +45,18 @@ class ChatTemplate:
         self._full = fmt(template, eos_token=eos, bos_token=bos, add_generation_prompt=True)
         self._prefix = fmt(template, eos_token=eos, bos_token=bos, add_generation_prompt=False)
 
-    def render(self, messages: tuple[ChatMessage, ...]) -> tuple[str, str | None]:
-        """(the prompt with the assistant turn opened, the text before the last message).
+    def render(self, messages: tuple[ChatMessage, ...],
+               n_prefix: int | None = None) -> tuple[str, str | None]:
+        """(the prompt with the assistant turn opened, the text of the first ``n_prefix``
+        messages; None: all but the last).
 
-        The second is None when there is only one message or the template does not render the
-        earlier messages as a text prefix of the whole.
+        The second is None when that is no message or all of them, or when the template does
+        not render those messages as a text prefix of the whole.
         """
         as_dicts = [{"role": m.role, "content": m.content} for m in messages]
         full = self._full(messages=as_dicts).prompt
-        prefix = self._prefix(messages=as_dicts[:-1]).prompt if len(as_dicts) > 1 else None
+        n = len(as_dicts) - 1 if n_prefix is None else n_prefix
+        prefix = self._prefix(messages=as_dicts[:n]).prompt if 0 < n < len(as_dicts) else None
         if prefix is not None and not full.startswith(prefix):
             log.debug("chat template renders the prefix differently; no prefix reuse")
             prefix = None

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from voxposer.errors import ConfigError, LLMError
-from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest, LLMResponse
+from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 from voxposer.lmp.backends.config import available_cores, configure_openmp, openmp_configured
 from voxposer.lmp.backends.llama_context import (
     ChatTemplate,
@@ -168,11 +168,12 @@ class LlamaCppBackend(LLMBackend):
 
     # ----------------------------------------------------------------------------- prompts
 
-    def _render(self, messages: tuple[ChatMessage, ...]) -> tuple[str, str | None]:
-        """(full prompt with the assistant turn opened, prefix before the last message)."""
+    def _render(self, request: LLMRequest) -> tuple[str, str | None]:
+        """(full prompt with the assistant turn opened, the text of the request's prefix
+        messages)."""
         if self._template is None:
             self._template = ChatTemplate(self._lib, self._first_llm())
-        return self._template.render(messages)
+        return self._template.render(request.messages, request.prefix_messages)
 
     def _tokenize(self, text: str) -> list[int]:
         return list(self._first_llm().tokenize(text.encode("utf-8"), add_bos=True, special=True))
@@ -237,7 +238,7 @@ class LlamaCppBackend(LLMBackend):
         prefix was obtained ("evaluated", "disk", "memory", "live" or "none").
         """
         with self._lock:
-            full, prefix = self._render(request.messages)
+            full, prefix = self._render(request)
             _, info = self._prepare(request.prefix_id, prefix, self._tokenize(full))
             return info
 
@@ -246,7 +247,7 @@ class LlamaCppBackend(LLMBackend):
             raise LLMError("request has no messages")
         with self._lock:
             start = time.perf_counter()
-            full, prefix = self._render(request.messages)
+            full, prefix = self._render(request)
             tokens = self._tokenize(full)
             room = self.n_ctx - len(tokens)
             if room < 16:
