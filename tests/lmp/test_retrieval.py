@@ -10,13 +10,14 @@ import pytest
 from voxposer.bench.paraphrases import PARAPHRASES
 from voxposer.errors import ConfigError
 from voxposer.lmp import LMP_SPECS, LMPConfig, LMPRuntime, RecordingHandler, make_tabletop_scene
-from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
+from voxposer.lmp.backends.base import LLMRequest
 from voxposer.lmp.backends.replay import ReplayBackend
 from voxposer.lmp.prompt import BANK_DIR, Example, load_prompt, parse_bank
 from voxposer.lmp.prompt_tags import TASK_NAMES
-from voxposer.lmp.retrieval import ExampleBank, example_query, query_words
+from voxposer.lmp.retrieval import ExampleBank, query_text, query_words
 
 from .test_replay_and_prompts import UNSEEN
+from .test_runtime_folds import Spy
 
 RECORDINGS = Path(__file__).parent / "recordings"
 PACKAGED = Path(__file__).parents[2] / "src" / "voxposer" / "lmp" / "prompts" / BANK_DIR
@@ -90,7 +91,7 @@ def test_a_bank_with_a_system_section_is_refused() -> None:
 def test_packaged_banks_parse_for_known_lmps_and_hold_no_unseen_attributes(name: str) -> None:
     assert name in LMP_SPECS
     bank = load_prompt(name).bank
-    assert len(bank.examples) >= 3 and bank.tasks() <= set(TASK_NAMES)
+    assert len(bank.examples) >= 3 and bank.tasks <= set(TASK_NAMES)
     text = "\n".join(e.user + "\n" + e.assistant for e in bank.examples).lower()
     for word in UNSEEN:  # "back side of the table" is a seen place, "back side of" a block not
         assert not re.search(rf"\b{re.escape(word)}\b(?! the table)", text), (name, word)
@@ -105,25 +106,8 @@ def test_no_planner_bank_example_is_a_paraphrase_of_the_benchmark() -> None:
                 for phrasings in PARAPHRASES.values() for p in phrasings]
     assert patterns[0].fullmatch("go to the left of the blue block.")  # the patterns match
     for example in load_prompt("planner").bank.examples:
-        query = example_query(example)
+        query = query_text(example.user)
         assert not any(p.fullmatch(query) for p in patterns), query
-
-
-class Spy(LLMBackend):
-    """Keeps every request it forwards (a test double)."""
-
-    name = "spy"
-
-    def __init__(self, inner: LLMBackend) -> None:
-        self.inner, self.requests = inner, []
-
-    @property
-    def model(self) -> str:
-        return self.inner.model
-
-    def complete(self, request: LLMRequest) -> LLMResponse:
-        self.requests.append(request)
-        return self.inner.complete(request)
 
 
 def planner_request(config: LMPConfig) -> LLMRequest:

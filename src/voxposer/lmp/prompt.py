@@ -25,7 +25,7 @@ from typing import Final, NamedTuple
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import ChatMessage
 from voxposer.lmp.prompt_tags import MARKER_LIKE, check_task, fold_prefix_id, parse_marker
-from voxposer.lmp.retrieval import ExampleBank, example_query
+from voxposer.lmp.retrieval import ExampleBank, query_text
 
 API_MARKER: Final = "<<API_REFERENCE>>"
 API_FILE: Final = "api_reference.txt"
@@ -75,7 +75,7 @@ class Prompt:
         """System, the fixed examples, the ``retrieved`` bank examples nearest to the query
         (nearest last), each as a user and an assistant turn, then ``query_message`` as the
         last user turn."""
-        chosen = self.bank.nearest(example_query(Example(query_message, "")), retrieved)
+        chosen = self.bank.nearest(query_text(query_message), retrieved)
         out = [ChatMessage("system", self.system)]
         for example in self.examples + chosen:
             out += [ChatMessage("user", example.user), ChatMessage("assistant", example.assistant)]

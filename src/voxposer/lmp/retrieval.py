@@ -50,10 +50,11 @@ def query_words(text: str) -> list[str]:
     return out
 
 
-def example_query(example: Example) -> str:
-    """The query an example answers: the text after its last ``# Query:`` line."""
-    lines = [ln for ln in example.user.splitlines() if ln.startswith(QUERY_MARK)]
-    return lines[-1][len(QUERY_MARK):].strip() if lines else example.user.strip()
+def query_text(user: str) -> str:
+    """The query of a user message: the text after its last ``# Query:`` line (all of it when
+    there is none)."""
+    lines = [ln for ln in user.splitlines() if ln.startswith(QUERY_MARK)]
+    return lines[-1][len(QUERY_MARK):].strip() if lines else user.strip()
 
 
 @dataclass(frozen=True)
@@ -71,7 +72,7 @@ class ExampleBank:
 
     def __post_init__(self) -> None:
         if self.examples:
-            corpus = [query_words(example_query(e)) or ["<empty>"] for e in self.examples]
+            corpus = [query_words(query_text(e.user)) or ["<empty>"] for e in self.examples]
             object.__setattr__(self, "_index", BM25Plus(corpus))
             object.__setattr__(self, "_words", tuple(frozenset(c) for c in corpus))
 
@@ -96,9 +97,10 @@ class ExampleBank:
         chosen = sorted(sharing, key=lambda i: (-scores[i], i))[:k]
         return tuple(self.examples[i] for i in reversed(chosen))
 
+    @property
     def tasks(self) -> frozenset[str]:
         """Every task some bank example demonstrates."""
         return frozenset().union(*(e.tasks for e in self.examples))
 
 
-__all__ = ["ExampleBank", "example_query", "query_words"]
+__all__ = ["ExampleBank", "query_text", "query_words"]
