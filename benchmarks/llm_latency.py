@@ -18,7 +18,12 @@ with those prefix states on disk and no response cache runs them again; per inst
 in the model (the sum of its calls), the calls, the sub-tasks (composer calls) and seconds per
 sub-task, then median and max, and the process's peak resident memory.
 
+``--retrieved K`` sets how many example-bank examples each program gets per query
+(``LMPConfig.retrieved_examples``; default: the config's), so the cost of examples chosen per
+query is measured on one machine against ``--retrieved 0``.
+
     python benchmarks/llm_latency.py [--instruction "..."] [--mode runtime|requests|suite]
+        [--retrieved K]
 """
 
 from __future__ import annotations
@@ -33,6 +38,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 from rich.console import Console
 from rich.table import Table
@@ -97,7 +103,14 @@ class _Meter(LLMBackend):
         self.inner.close()
 
 
-def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: bool) -> dict:
+def _config(retrieved: int | None) -> Any:
+    from voxposer.lmp import LMPConfig
+
+    return LMPConfig() if retrieved is None else LMPConfig(retrieved_examples=retrieved)
+
+
+def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: bool,
+               retrieved: int | None = None) -> dict:
     start = time.perf_counter()
     meter = _Meter(make_backend(LLMConfig.from_env(cache_dir=cache_dir, cache=response_cache)))
     error = None
@@ -106,7 +119,7 @@ def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: boo
         from voxposer.lmp import LMPRuntime, make_tabletop_scene
 
         try:
-            LMPRuntime(make_tabletop_scene(), meter).run(instruction)
+            LMPRuntime(make_tabletop_scene(), meter, config=_config(retrieved)).run(instruction)
         except VoxPoserError as exc:  # the model's code failed; the LLM time still counts
             error = f"{type(exc).__name__}: {str(exc)[:200]}"
     else:
@@ -120,7 +133,7 @@ def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: boo
     return {"seconds": seconds, "calls": meter.calls, "error": error}
 
 
-def _run_suite(cache_dir: Path) -> dict:
+def _run_suite(cache_dir: Path, retrieved: int | None = None) -> dict:
     """Every ``SUITE`` instruction in this process, warm (prefix states from ``cache_dir``, no
     response cache): per instruction its calls, LLM seconds and composer calls."""
     from voxposer.errors import VoxPoserError
@@ -132,7 +145,7 @@ def _run_suite(cache_dir: Path) -> dict:
         meter.calls = []
         error = None
         try:
-            LMPRuntime(make_tabletop_scene(), meter).run(instruction)
+            LMPRuntime(make_tabletop_scene(), meter, config=_config(retrieved)).run(instruction)
         except VoxPoserError as exc:
             error = f"{type(exc).__name__}: {str(exc)[:120]}"
         rows.append({"instruction": instruction, "calls": len(meter.calls),
@@ -185,7 +198,8 @@ def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
     generated = sum(r["completion_tokens"] for r in result["rows"])
     console.print(f"{generated} tokens generated in {sum(r['llm_s'] for r in result['rows']):.0f} "
                   f"s of model time over {sum(calls)} calls")
-    print(f"one_subtask_median_s={statistics.median(single):.1f} "
+    print(f"retrieved={args.retrieved if args.retrieved is not None else 'default'} "
+          f"one_subtask_median_s={statistics.median(single):.1f} "
           f"one_subtask_max_s={max(single):.1f} "
           f"multi_per_subtask_median_s={statistics.median(per_subtask):.1f} "
           f"multi_per_subtask_max_s={max(per_subtask):.1f} "
@@ -195,6 +209,8 @@ def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
 def _spawn(phase: str, args: argparse.Namespace, cache_dir: Path) -> dict:
     cmd = [sys.executable, __file__, "--phase", phase, "--mode", args.mode,
            "--instruction", args.instruction, "--cache-dir", str(cache_dir)]  # fmt: skip
+    if args.retrieved is not None:
+        cmd += ["--retrieved", str(args.retrieved)]
     out = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -209,13 +225,16 @@ def main() -> None:
     parser.add_argument("--warm-only", action="store_true",
                         help="--mode suite: skip the cold pass (--cache-dir already holds the "
                              "prefix states of every program the suite uses)")
+    parser.add_argument("--retrieved", type=int, default=None,
+                        help="bank examples per query (default: LMPConfig's)")
     args = parser.parse_args()
     if args.phase == "suite":  # worker process of --mode suite
-        sys.stdout.write(json.dumps(_run_suite(args.cache_dir)) + "\n")
+        sys.stdout.write(json.dumps(_run_suite(args.cache_dir, args.retrieved)) + "\n")
         return
     if args.phase:  # worker process
         mode = "runtime" if args.mode == "suite" else args.mode
-        result = _run_phase(mode, args.instruction, args.cache_dir, args.phase != "cold")
+        result = _run_phase(mode, args.instruction, args.cache_dir, args.phase != "cold",
+                            args.retrieved)
         sys.stdout.write(json.dumps(result) + "\n")
         return
 
