@@ -20,10 +20,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
-from typing import Final, NamedTuple
+from typing import Final
 
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.base import ChatMessage
+from voxposer.lmp.example import Example
 from voxposer.lmp.prompt_tags import MARKER_LIKE, check_task, fold_prefix_id, parse_marker
 from voxposer.lmp.retrieval import ExampleBank, query_text
 
@@ -36,14 +37,6 @@ NO_BANK: Final = ExampleBank(())
 #: First line of the user message that feeds an error back to the model (self-correction).
 RETRY_PREFIX: Final = "Running your code failed:"
 QUERY_PREFIX: Final = "# Query: "
-
-
-class Example(NamedTuple):
-    """One few-shot example: the user turn, the assistant's answer, the tasks it demonstrates."""
-
-    user: str
-    assistant: str
-    tasks: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)

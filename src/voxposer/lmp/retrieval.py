@@ -21,14 +21,12 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Final
+from typing import Final
 
 from rank_bm25 import BM25Plus
 
 from voxposer.catalog import COLOR_NAMES
-
-if TYPE_CHECKING:
-    from voxposer.lmp.prompt import Example
+from voxposer.lmp.example import Example
 
 QUERY_MARK: Final = "# Query:"
 #: words every query shares; left out so they neither match nor dilute a match.
