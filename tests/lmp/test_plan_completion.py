@@ -81,6 +81,9 @@ def test_a_drop_of_an_object_never_grasped_becomes_grasp_lift_carry_release(subt
     "composer('release the top drawer handle')",  # no place
     "composer('put the top drawer handle on the back side of the table')",  # a fixture's part
     "composer('move to the back left corner of the table')",
+    "composer('place the gripper at the top of the blue block')",  # the hand itself: a motion
+    "composer('put your hand at the left of the pink block')",
+    "composer('set the end effector over the back side of the table')",
     "for _ in range(2):\n    composer('drop the blue block on the table')",  # not a plain plan
 ])
 def test_drops_after_a_grasp_and_other_plans_are_left_alone(plan: str) -> None:

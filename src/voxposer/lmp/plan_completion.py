@@ -25,6 +25,7 @@ import re
 from typing import Final
 
 from voxposer.lmp.plan_review import plain_steps
+from voxposer.perception.names import is_end_effector
 
 #: the sub-task appended after a final grasp (the planner prompt's own wording).
 LIFT_SUBTASK: Final = "back to default pose"
@@ -60,6 +61,13 @@ def drop_subtasks(obj: str, place: str) -> list[str]:
             f"{place}", f"release the {obj}"]
 
 
+def _droppable(obj: str) -> bool:
+    """Whether ``obj`` (a sub-task's words) names a free object: not a fixture's part, not the
+    robot's own hand ("place the gripper at …", "put your hand at …" are motions)."""
+    words = obj.removeprefix("your ").removeprefix("my ")
+    return not (_FIXED_PARTS.search(obj) or is_end_effector(words))
+
+
 def grasp_before_drop(code: str) -> str | None:
     """``code`` with each sub-task that drops a free object it never grasped replaced by
     :func:`drop_subtasks` (module docs); None when it needs nothing."""
@@ -72,7 +80,7 @@ def grasp_before_drop(code: str) -> str | None:
     for subtask, line, expects in steps:
         drop = _DROP.match(subtask)
         obj = drop.group("obj").strip().lower() if drop else ""
-        if drop and not _FIXED_PARTS.search(obj) and not any(obj in g for g in grasped):
+        if drop and _droppable(obj) and not any(obj in g for g in grasped):
             lines += [f"composer({s!r})" for s in drop_subtasks(obj, drop.group("place"))]
             changed = True
         else:
