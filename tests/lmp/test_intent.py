@@ -120,3 +120,14 @@ def test_on_a_side_of_a_block_means_beside_it(checks: IntentChecks) -> None:
     assert not h["on"]("gripper", "brown block", "front side").held
     scene.set_ee(brown.position + np.array([0.30, 0.0, 0.0]))  # far in front
     assert not h["on"]("gripper", "brown block", "front").held
+
+
+def test_released_is_an_open_hand_or_the_object_away_from_it(checks: IntentChecks) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    scene.set_ee(scene.detect("yellow block").position)
+    scene.gripper = 1.0
+    assert not h["released"]("yellow block").held  # closed around it: still held
+    assert h["released"]("pink block").held  # closed, but not around the pink block
+    scene.gripper = 0.0
+    cond = h["released"]("yellow block")
+    assert cond.held and "gripper open" in cond.measured

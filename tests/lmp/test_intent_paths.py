@@ -66,9 +66,10 @@ def test_two_blocks_corner_to_corner_are_as_far_apart_as_their_centres_say(
     cond = h["away"]("blue block", "green block")
     assert cond.held, cond.measured
     assert "closest 4.1 cm" in cond.measured
-    # half a voxel short still counts (the perceived boxes' resolution), more does not
-    assert h["away"]("blue block", "green block", cm=4.5).held
-    assert not h["away"]("blue block", "green block", cm=4.7).held
+    # from perceived centres, so no slack: 4.1 cm is not the 4.3 cm asked (the gripper's
+    # distance to a box's faces keeps half a voxel of slack)
+    assert h["away"]("blue block", "green block", cm=4.0).held
+    assert not h["away"]("blue block", "green block", cm=4.3).held
     assert box_gap(corner[None], *scene.detect("green block").aabb,
                    np.full(3, 0.025))[0] == pytest.approx(0.021, abs=0.002)
 
@@ -166,3 +167,16 @@ def test_speed_without_the_robots_default_speed_is_not_evaluated() -> None:
     checks = IntentChecks(LMPAPI(make_tabletop_scene()))
     cond = helpers(checks)["speed"]("gripper", 0.5)
     assert cond.error and not cond.held and "default speed is unknown" in cond.measured
+
+
+def test_an_obstacle_pushed_aside_counts_where_it_was(checks: IntentChecks) -> None:
+    """The blue block brushes the green one (2 cm between faces), which then slides 5 cm away:
+    measured against where the green block is now alone, the pass would look 7 cm clear."""
+    h, scene = helpers(checks), checks.api.scene
+    green = scene.detect("green block").position
+    checks.begin_subtask("push the blue block past the green block")
+    path = line(green + np.array([-0.2, 0.07, 0.0]), green + np.array([0.2, 0.07, 0.0]), 20)
+    executed(checks, path + np.array([0.0, 0.0, 0.05]), entity="blue block", entity_path=path)
+    scene.move("green block", [0.0, -0.05, 0.0])
+    cond = h["away"]("blue block", "green block")
+    assert not cond.held and "closest 2.0 cm" in cond.measured

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from tests.lmp.test_runtime_intent import Backend, runtime
-from voxposer.lmp.plan_completion import grasp_before_drop, lift_after_grasp
+from voxposer.lmp.plan_completion import carry_stay_on, grasp_before_drop, lift_after_grasp
 
 GRASP = ("composer('grasp the purple block while moving at 3x speed')\n"
          "expect(holding('purple block'), speed('gripper', 3))")
@@ -96,5 +96,44 @@ def test_the_runtime_grasps_before_a_lone_drop_and_says_so() -> None:
     rt = runtime(Backend(entries))
     with pytest.raises(Exception, match="grasp the blue block"):  # the replay has no composer
         rt.run("release the blue block over the table")
-    (event,) = [e for e in rt.transcript.events if e["event"] == "plan_completed"]
-    assert event["why"] == "a sub-task drops an object the plan never grasped"
+    grasp, derived = [e for e in rt.transcript.events if e["event"] == "plan_completed"]
+    assert grasp["why"] == "a sub-task drops an object the plan never grasped"
+    assert "released('blue block')" in derived["added"]  # the release then asks it
+
+
+STAY_OBJECTS = ("table", "gripper", "yellow block", "brown block", "blue block")
+
+
+@pytest.mark.parametrize(("instruction", "plan", "expected"), [
+    # the clause dropped: the one motion carries it
+    ("please move to the back side of the table, staying on the top of the yellow block",
+     "composer('move to the back side of the table')\nexpect(on('gripper', 'table', 'back side'))",
+     "composer('move to the back side of the table while staying on the top of the yellow "
+     "block')\nexpect(on('gripper', 'table', 'back side'))"),
+    # the clause planned as a destination after the motion: dropped, given to the motion
+    ("take the gripper to the back left corner of the table but stay on the front side of the "
+     "brown block",
+     "composer('move to the back left corner of the table')\n"
+     "composer('move to the front side of the brown block')\n"
+     "expect(on('gripper', 'brown block', 'front side'))",
+     "composer('move to the back left corner of the table while staying on the front side of "
+     "the brown block')"),
+])
+def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, plan: str,
+                                                            expected: str) -> None:
+    assert carry_stay_on(instruction, plan, STAY_OBJECTS) == expected
+
+
+@pytest.mark.parametrize(("instruction", "plan"), [
+    ("move to the back side of the table while staying on the top of the blue block",
+     "composer('move to the back side of the table while staying on the top of the blue block')"),
+    ("move to the back side of the table while staying on the top of the blue block",  # 2 motions
+     "composer('move to the left side of the table')\ncomposer('move to the back side of the "
+     "table')"),
+    ("push the blue block while it stays on the left side of the table",  # a table part
+     "composer('push the blue block to the left')"),
+    ("move to the back side of the table", "composer('move to the back side of the table')"),
+])
+def test_plans_that_carry_the_clause_or_are_unclear_are_left_alone(instruction: str,
+                                                                   plan: str) -> None:
+    assert carry_stay_on(instruction, plan, STAY_OBJECTS) is None

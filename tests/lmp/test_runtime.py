@@ -120,7 +120,10 @@ def test_transcript_is_jsonl_written_incrementally(tmp_path: Path) -> None:
     lines = (tmp_path / "run.jsonl").read_text().splitlines()
     events = [json.loads(line) for line in lines]
     kinds = {e["event"] for e in events}
-    assert kinds == {"prompt", "llm_call", "exec", "execute", "resolved"}
+    # the plan states no post-condition: its "staying away" is derived (plan_completed) and
+    # evaluated (intent)
+    assert kinds == {"prompt", "llm_call", "exec", "execute", "resolved", "plan_completed",
+                     "intent"}
     llm = [e for e in events if e["event"] == "llm_call"]
     resolved = [e for e in events if e["event"] == "resolved"]
     # the parse_query_obj queries that name a scene object exactly need no LLM call

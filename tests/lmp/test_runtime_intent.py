@@ -120,6 +120,7 @@ def test_a_post_condition_that_misses_a_constraint_is_sent_back_once() -> None:
     assert correction.startswith(RETRY_PREFIX) and "away(" in correction
     assert [r.condition for r in rt.intent.results] == [
         "near('gripper', 'blue block', cm=12)", "away('gripper', 'green block', cm=5)"]
-    off = runtime(Backend(entries(end_only, measured)), intent_checklist=False)
+    off = runtime(Backend(entries(end_only, measured)), intent_checklist=False,
+                  derived_conditions=False)
     off.run(INSTRUCTION)
     assert [r.condition for r in off.intent.results] == ["near('gripper', 'blue block', cm=12)"]

@@ -64,7 +64,7 @@ AWAY_CM: Final = 4.0
 DISTANCE_SLACK_CM: Final = 0.5
 #: the names the planner's code sees.
 HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "passed_on", "speed",
-                  "holding")
+                  "holding", "released")
 
 
 class IntentChecks:
@@ -83,6 +83,9 @@ class IntentChecks:
         #: every visible object's half-extent [m] (3,) when the sub-task began (a block
         #: pushed and turned since has a larger axis-aligned box)
         self._start_half: dict[str, NDArray[np.float64]] = {}
+        #: every visible object's box (lo, hi) [m] when the sub-task began (an obstacle
+        #: pushed aside was where the other came close to it)
+        self._start_box: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         self._paths: dict[str, list[NDArray[np.float64]]] = {}
         self._timed: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []
         #: the end effector's speed at speed scale 1 [m/s] (the robot's; None: unknown, so
@@ -95,7 +98,7 @@ class IntentChecks:
         self._subtask = str(subtask)
         self._paths, self._timed = {}, []
         before: dict[str, NDArray[np.float64]] = {"gripper": self._ee()}
-        self._before_box, self._start_half = {}, {}
+        self._before_box, self._start_half, self._start_box = {}, {}, {}
         for name in self.api.scene.object_names:
             if is_end_effector(name):
                 continue
@@ -106,6 +109,7 @@ class IntentChecks:
             before[name] = found.position_world.astype(np.float64)
             lo, hi = (np.asarray(v, float) for v in found.aabb_world)
             self._start_half[name] = (hi - lo) / 2.0
+            self._start_box[name] = (lo, hi)
             if _sliding(name):
                 self._before_box[name] = (lo, hi)
         self._before = before
@@ -172,7 +176,7 @@ class IntentChecks:
         for cond in conditions:
             if not isinstance(cond, Condition):
                 raise ConfigError(f"expect() takes conditions from moved/near/on/above/away/"
-                                  f"passed_on/speed/holding; got {type(cond).__name__} {cond!r}")
+                                  f"passed_on/speed/holding/released; got {type(cond).__name__} {cond!r}")
             self.results.append(IntentResult(self._subtask, cond.text, bool(cond.held),
                                              cond.measured, bool(cond.error)))
         return all(bool(c.held) for c in conditions)
@@ -260,25 +264,32 @@ class IntentChecks:
 
     def away(self, obj: str, target: str, cm: float = AWAY_CM) -> Condition:
         """During the last sub-task ``obj`` (its path when the executor moved it, else where
-        it is now) stayed at least ``cm`` [cm] (less :data:`DISTANCE_SLACK_CM`) from
-        ``target``'s box: between their faces for an object, from the end effector's point for
-        the gripper; between two compact objects (blocks) horizontally by their footprints'
-        inscribed circles (:func:`~voxposer.lmp.intent_paths.compact_gap`), whatever either's
-        turn."""
+        it is now) stayed at least ``cm`` [cm] from ``target``'s box — where it is now and
+        where it was when the sub-task began (an obstacle pushed aside): between their faces
+        for an object, from the end effector's point for the gripper (less
+        :data:`DISTANCE_SLACK_CM`: a point against perceived faces); between two compact
+        objects (blocks) horizontally by their footprints' inscribed circles
+        (:func:`~voxposer.lmp.intent_paths.compact_gap`, from perceived centres: no slack),
+        whatever either's turn."""
         name, other = self._name(obj), self._name(target)
         paths = self._paths.get(name, [])
         points = np.concatenate(paths) if paths else self._centre(name)[None]
-        box = self._aabb(other)
+        boxes = [self._aabb(other)]
+        if other in self._start_box:
+            boxes.append(self._start_box[other])
+        slack = DISTANCE_SLACK_CM
         if name == "gripper":
-            gaps = box_gap(points, *box)
+            gaps = np.min([box_gap(points, *box) for box in boxes], axis=0)
         else:
             lo, hi = self._aabb(name)
             half = self._start_half.get(name, (hi - lo) / 2.0)
-            compact = is_compact(lo, hi) or is_compact(-half, half)
-            gaps = compact_gap(points, half, *box) if compact and is_compact(*box) \
-                else box_gap(points, *box, half)
+            compact = (is_compact(lo, hi) or is_compact(-half, half)) \
+                and all(is_compact(*box) for box in boxes)
+            gaps = np.min([compact_gap(points, half, *box) if compact
+                           else box_gap(points, *box, half) for box in boxes], axis=0)
+            slack = 0.0 if compact else DISTANCE_SLACK_CM
         dist = 100.0 * float(gaps.min())
-        return Condition(_call("away", obj, target, cm=cm), dist >= cm - DISTANCE_SLACK_CM,
+        return Condition(_call("away", obj, target, cm=cm), dist >= cm - slack,
                          f"closest {dist:.1f} cm to the {other} over {len(points)} points")
 
     def passed_on(self, obj: str, target: str, side: str) -> Condition:
@@ -334,6 +345,16 @@ class IntentChecks:
         closed = float(self.api.scene.gripper_state()) > 0.5
         dist = 100.0 * float(np.linalg.norm(self._centre(name) - self._ee()))
         return Condition(_call("holding", obj), closed and dist <= HOLD_CM,
+                         f"gripper {'closed' if closed else 'open'}, the {name} {dist:.1f} cm "
+                         "from it")
+
+    def released(self, obj: str) -> Condition:
+        """The hand let ``obj`` go: the gripper is open, or ``obj``'s centre is more than
+        8 cm from the end effector (the opposite of :meth:`holding`)."""
+        name = self._name(obj)
+        closed = float(self.api.scene.gripper_state()) > 0.5
+        dist = 100.0 * float(np.linalg.norm(self._centre(name) - self._ee()))
+        return Condition(_call("released", obj), not (closed and dist <= HOLD_CM),
                          f"gripper {'closed' if closed else 'open'}, the {name} {dist:.1f} cm "
                          "from it")
 

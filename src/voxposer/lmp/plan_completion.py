@@ -17,6 +17,12 @@ is sometimes planned as that one sub-task, which no single ``execute`` can do (t
 holding the block). :func:`grasp_before_drop` replaces a sub-task that drops, releases or puts a
 free object at a place, when no earlier sub-task grasped it, by the examples' own sequence
 (:func:`drop_subtasks`); the sub-task's ``expect`` lines stay after the release.
+
+"Staying on the <side> of the <object>" is the clause the model drops most (the clause checklist
+asks once more, and the correction often repeats the plan): :func:`carry_stay_on` gives the
+plan's one motion the instruction's clause ("move to the back side of the table while staying
+on the top of the yellow block"), and drops a sub-task that went to that side of the object
+instead of passing it ("move to the front side of the brown block" after the motion).
 """
 
 from __future__ import annotations
@@ -38,6 +44,13 @@ _DROP: Final = re.compile(
     r"(?P<place>[\w ]+?)\s*\.?$", re.I)
 #: how high above the place the object is carried before the hand opens [cm] (the examples').
 CARRY_CM: Final = 9
+#: "staying on the <side> of the <object>" in an instruction or a sub-task: (side, object words).
+_STAY_ON: Final = re.compile(
+    r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|passing|going|go)\s+"
+    r"(?:on|over|at|along|to|by)\s+the\s+(top|bottom|(?:front|back|left|right)(?:\s+side)?)"
+    r"\s+of\s+the\s+([a-z]+(?:\s+[a-z]+)?)")
+#: a sub-task that moves the hand somewhere.
+_MOTION: Final = re.compile(r"^\s*(?:move|go|head|travel|bring|take)\b", re.I)
 #: words of things fixed to the scene: grasped to pull or turn them, never to lift.
 _FIXED_PARTS: Final = re.compile(
     r"\b(?:handle|drawer|door|window|fridge|cabinet|knob|lever|lid|latch)s?\b", re.I)
@@ -91,4 +104,34 @@ def grasp_before_drop(code: str) -> str | None:
     return "\n".join(lines) if changed else None
 
 
-__all__ = ["CARRY_CM", "LIFT_SUBTASK", "drop_subtasks", "grasp_before_drop", "lift_after_grasp"]
+def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[str]) -> str | None:
+    """``code`` with the instruction's "staying on the <side> of the <object>" clause given to
+    its one motion sub-task when no sub-task carries it (module docs); None when it needs
+    nothing or cannot tell which motion. ``objects``: the scene's object names."""
+    clause = _STAY_ON.search(" ".join(instruction.lower().split()))
+    steps = plain_steps(code)
+    if clause is None or not steps:
+        return None
+    side, said = clause.groups()
+    obj = next((o.lower() for o in sorted(objects, key=len, reverse=True)
+                if said == o.lower() or said.startswith(o.lower() + " ")), None)
+    if obj is None or obj == "table":
+        return None
+    if any(_STAY_ON.search(s.lower()) and obj in s.lower() for s, _, _ in steps):
+        return None
+    beside = re.compile(rf"^(?:move|go)\s+to\s+the\s+{side}(?:\s+side)?\s+of\s+the\s+{obj}$")
+    kept = [st for st in steps if not beside.match(" ".join(st[0].lower().split()))]
+    motions = [i for i, (s, _, _) in enumerate(kept) if _MOTION.match(s) and obj not in s.lower()]
+    if len(motions) != 1:
+        return None
+    lines: list[str] = []
+    for i, (subtask, line, expects) in enumerate(kept):
+        if i == motions[0]:
+            line = "composer(" + repr(f"{subtask.rstrip(' .')} while staying on the {side} "
+                                      f"of the {obj}") + ")"
+        lines += [line, *expects]
+    return "\n".join(lines)
+
+
+__all__ = ["CARRY_CM", "LIFT_SUBTASK", "carry_stay_on", "drop_subtasks", "grasp_before_drop",
+           "lift_after_grasp"]

@@ -89,6 +89,15 @@ class LMPConfig:
         grasp_before_drop: a plan sub-task that drops a free object no earlier sub-task
             grasped becomes the examples' grasp, lift, carry and release
             (:func:`~voxposer.lmp.plan_completion.grasp_before_drop`).
+        carry_stay_on: the instruction's "staying on the <side> of the <object>", carried by
+            no sub-task, is given to the plan's one motion
+            (:func:`~voxposer.lmp.plan_completion.carry_stay_on`).
+        keep_instruction_speed: a sub-task whose speed asks the opposite of the
+            instruction's ("faster" planned for "a quarter of the speed") gets the
+            instruction's speed phrase (:func:`~voxposer.lmp.plan_conditions.keep_instruction_speed`).
+        derived_conditions: each sub-task's post-conditions are completed from its words
+            (the side passed, the pushed object moved, a release, a speed, a distance kept:
+            :func:`~voxposer.lmp.plan_conditions.derive_conditions`).
         resolve_exact_names: a ``parse_query_obj`` query that names a scene object exactly
             (after the synonym table) is answered ``ret_val = detect(<name>)`` without the
             model, recorded as a ``resolved`` transcript event.
@@ -108,6 +117,9 @@ class LMPConfig:
     intent_checklist: bool = True
     lift_after_grasp: bool = True
     grasp_before_drop: bool = True
+    carry_stay_on: bool = True
+    keep_instruction_speed: bool = True
+    derived_conditions: bool = True
     resolve_exact_names: bool = True
     retrieved_examples: int = 2
 

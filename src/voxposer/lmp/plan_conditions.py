@@ -1,0 +1,227 @@
+"""Post-conditions derived from a plan's own words, and the instruction's speed kept.
+
+The planner states after each sub-task what must then hold (``expect(...)``,
+:mod:`voxposer.lmp.intent`), and the post-condition checklist
+(:mod:`voxposer.lmp.intent_checklist`) asks it once more when a constraint of a sub-task goes
+unmeasured. The 1.5B model often answers the same plan again, so a run would claim a success
+its own sub-tasks' words deny. :func:`derive_conditions` then completes the conditions from
+those words, as the checklist asks:
+
+- "staying on the <side> of the <object>": ``passed_on('gripper', <object>, <side>)`` (the side
+  kept while passing); an ``on(...)`` beside that object, or of that object on the table, is
+  dropped — the hand only passes it, and the object does not move;
+- "push the <object> …": ``moved(<object>)`` (a push that never moved the block did nothing,
+  whatever ``on`` says of where the block already was); an avoidance clause measured on the
+  gripper is measured on the pushed object;
+- "release/drop the <object>": ``released(<object>)``;
+- a speed clause: ``speed(<what moves>, <factor>)`` with the factor its words ask
+  (:mod:`voxposer.lmp.speed_words`), restricted ``near=`` the object or ``inside=`` the table
+  part the sub-task names; a stated factor of the wrong direction is set to the words';
+- an avoidance clause ("staying away from the <object>", "at least 5cm from …"):
+  ``away(<what moves>, <object>[, cm=<n>])``.
+
+:func:`keep_instruction_speed` fixes the plan itself: a sub-task whose speed asks the opposite
+of the instruction's ("at faster speed" planned for "at a quarter of the speed") gets the
+instruction's speed phrase instead. Only plain plans (``composer`` and ``expect`` statements)
+are changed; the runtime records each change as a ``plan_completed`` transcript event.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from typing import Final, NamedTuple
+
+from voxposer.lmp.checklist import AVOID_WORDS
+from voxposer.lmp.plan_review import plain_steps
+from voxposer.lmp.speed_words import same_direction, speed_factor, speed_span
+from voxposer.perception.names import is_end_effector, normalize_name
+
+_SIDE: Final = r"(top|bottom|(?:front|back|left|right|near|far)(?:\s+side)?)"
+_STAY_ON: Final = re.compile(r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|"
+                             r"passing|going|go)\s+(?:on|over|at|along|to|by)\s+the\s+" + _SIDE
+                             + r"\s+of\s+the\s+([a-z ]+)")
+_PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
+                          r"(?:the\s+)?([a-z ]+)")
+_RELEASE: Final = re.compile(r"^(?:then\s+|and\s+)?(?:release|drop|let\s+go\s+of|put\s+down)\s+"
+                             r"(?:the\s+)?([a-z ]+)")
+_REGION: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s+"
+                            r"((?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge))\s+of\s+the\s+table")
+_NEAR: Final = re.compile(r"\b(?:within|closer\s+than|inside)\s+(\d+(?:\.\d+)?)\s*(?:cm|centimet"
+                          r"(?:er|re)s?)\s+(?:of|from|to)\s+the\s+([a-z ]+)")
+_AWAY: Final = re.compile(r"\b(?:away\s+from|avoid|avoiding|clear\s+of|around|from)\s+the\s+"
+                          r"([a-z ]+)")
+_AT_LEAST: Final = re.compile(r"\bat\s+least\s+(\d+(?:\.\d+)?)\s*(?:cm|centimet(?:er|re)s?)")
+
+
+class Stated(NamedTuple):
+    """A condition inside an ``expect(...)``: its helper, string arguments (lower case, ""
+    when not a string constant), keyword names, and source text."""
+
+    helper: str
+    args: tuple[str, ...]
+    keywords: frozenset[str]
+    source: str
+
+
+def _stated(line: str) -> list[Stated]:
+    """The conditions of one ``expect(...)`` line (none when it does not parse)."""
+    try:
+        call = ast.parse(line).body[0].value  # type: ignore[attr-defined]
+    except (SyntaxError, IndexError, AttributeError):
+        return []
+    out = []
+    for arg in getattr(call, "args", []):
+        if isinstance(arg, ast.Call) and isinstance(arg.func, ast.Name):
+            args = tuple(a.value.lower() if isinstance(a, ast.Constant)
+                         and isinstance(a.value, str) else "" for a in arg.args)
+            out.append(Stated(arg.func.id, args, frozenset(k.arg for k in arg.keywords if k.arg),
+                              ast.get_source_segment(line, arg) or ""))
+    return out
+
+
+def _object(words: str, objects: tuple[str, ...]) -> str | None:
+    """The scene object ``words`` begin with (the longest name), None when none does."""
+    text = normalize_name(words)
+    for name in sorted(objects, key=len, reverse=True):
+        norm = normalize_name(name)
+        if text == norm or text.startswith(norm + " "):
+            return name
+    return None
+
+
+def _mover(text: str, objects: tuple[str, ...]) -> str:
+    """What a sub-task moves: the pushed object, else the gripper."""
+    push = _PUSH.match(text)
+    return (_object(push.group(1), objects) or "gripper") if push else "gripper"
+
+
+def _stated_scale(cond: Stated) -> float | None:
+    try:
+        call = ast.parse(cond.source).body[0].value  # type: ignore[attr-defined]
+        value = call.args[1].value
+    except (SyntaxError, IndexError, AttributeError):
+        return None
+    return float(value) if isinstance(value, int | float) else None
+
+
+def _speed(text: str, conds: list[Stated], objects: tuple[str, ...]
+           ) -> tuple[list[Stated], list[str]]:
+    """``conds`` with the speed ``text`` asks measured (module docs), and the changes."""
+    factor = speed_factor(text)
+    if factor is None:
+        return conds, []
+    near, region = _NEAR.search(text), _REGION.search(text)
+    near_obj = _object(near.group(2), objects) if near else None
+    where = (f", near={near_obj!r}, cm={float(near.group(1)):g}" if near and near_obj
+             else f", inside={region.group(1)!r}" if region else "")
+    speeds = [c for c in conds if c.helper == "speed"]
+    keep = [c for c in conds if c.helper != "speed"]
+    notes: list[str] = []
+    for c in speeds:
+        scale = _stated_scale(c)
+        scoped = c.keywords & {"near", "inside", "side"} or not where
+        if scale is not None and same_direction(scale, factor) and scoped:
+            keep.append(c)
+            continue
+        subject = c.args[0] if c.args and c.args[0] else "gripper"
+        new = f"speed({subject!r}, {factor:g}{where})"
+        keep.append(Stated("speed", (subject,), frozenset(), new))
+        notes.append(f"{c.source} → {new}")
+    if not speeds:  # the end effector's speed, whatever it moves
+        new = f"speed('gripper', {factor:g}{where})"
+        keep.append(Stated("speed", ("gripper",), frozenset(), new))
+        notes.append(f"+ {new}")
+    return keep, notes
+
+
+def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
+                   ) -> tuple[list[Stated], list[str]]:
+    """``conds`` completed from ``subtask``'s words (module docs), with the changes in words."""
+    text = " ".join(subtask.lower().split())
+    mover = _mover(text, objects)
+    notes: list[str] = []
+
+    def add(helper: str, args: tuple[str, ...], source: str) -> None:
+        conds.append(Stated(helper, args, frozenset(), source))
+        notes.append(f"+ {source}")
+
+    if (stay := _STAY_ON.search(text)) and (obj := _object(stay.group(2), objects)) \
+            and obj != "table":
+        low = obj.lower()
+        dropped = [c for c in conds if c.helper == "on" and low in c.args[:2]]
+        conds = [c for c in conds if c not in dropped]
+        notes += [f"- {c.source}" for c in dropped]
+        if not any(c.helper == "passed_on" and c.args[1:2] == (low,) for c in conds):
+            add("passed_on", (mover, low), f"passed_on({mover!r}, {obj!r}, {stay.group(1)!r})")
+    if mover != "gripper":
+        if not any(c.helper == "moved" and c.args[:1] == (mover.lower(),) for c in conds):
+            add("moved", (mover.lower(),), f"moved({mover!r})")
+        for c in [c for c in conds if c.helper == "away" and is_end_effector(c.args[0])]:
+            new = c.source.replace(repr(c.args[0]), repr(mover), 1)
+            if new != c.source:
+                conds[conds.index(c)] = c._replace(args=(mover.lower(), *c.args[1:]), source=new)
+                notes.append(f"{c.source} → {new}")
+    if (rel := _RELEASE.match(text)) and (obj := _object(rel.group(1), objects)) \
+            and not is_end_effector(obj) \
+            and not any(c.helper in ("released", "holding") for c in conds):
+        add("released", (obj.lower(),), f"released({obj!r})")
+    conds, speed_notes = _speed(text, conds, objects)
+    notes += speed_notes
+    avoids = set(re.findall(r"[a-z]+", text)) & AVOID_WORDS or _AT_LEAST.search(text)
+    if avoids and not _STAY_ON.search(text) \
+            and not any(c.helper == "away" for c in conds):
+        for m in _AWAY.finditer(text):
+            if (obj := _object(m.group(1), objects)) and obj.lower() != mover.lower():
+                least = _AT_LEAST.search(text)
+                cm = f", cm={float(least.group(1)):g}" if least else ""
+                add("away", (mover.lower(), obj.lower()), f"away({mover!r}, {obj!r}{cm})")
+                break
+    return conds, notes
+
+
+def derive_conditions(code: str, objects: tuple[str, ...] | list[str]
+                      ) -> tuple[str, list[str]] | None:
+    """``code`` with each sub-task's ``expect`` completed from its words (module docs), and
+    the changes in words; None when the plan is not plain or needs nothing. ``objects``: the
+    scene's object names."""
+    steps = plain_steps(code)
+    if not steps:
+        return None
+    names = tuple(objects)
+    lines: list[str] = []
+    notes: list[str] = []
+    for subtask, line, expects in steps:
+        conds = [c for e in expects for c in _stated(e)]
+        done, changed = derive_subtask(subtask, list(conds), names)
+        lines.append(line)
+        if changed:
+            notes += [f"{subtask!r}: {n}" for n in changed]
+            if done:
+                lines.append(f"expect({', '.join(c.source for c in done)})")
+        else:
+            lines += expects
+    return ("\n".join(lines), notes) if notes else None
+
+
+def keep_instruction_speed(instruction: str, code: str) -> tuple[str, list[str]] | None:
+    """``code`` with each sub-task whose speed asks the opposite of ``instruction``'s given
+    the instruction's speed phrase; None when nothing needs it or the plan is not plain."""
+    asked, said = speed_factor(instruction), speed_span(instruction)
+    steps = plain_steps(code)
+    if asked is None or said is None or not steps:
+        return None
+    phrase = instruction[said[0]:said[1]]
+    lines: list[str] = []
+    notes: list[str] = []
+    for subtask, line, expects in steps:
+        factor, span = speed_factor(subtask), speed_span(subtask)
+        if factor is not None and span is not None and not same_direction(factor, asked):
+            fixed = subtask[:span[0]] + phrase + subtask[span[1]:]
+            line = f"composer({fixed!r})"
+            notes.append(f"{subtask!r} → {fixed!r}")
+        lines += [line, *expects]
+    return ("\n".join(lines), notes) if notes else None
+
+
+__all__ = ["Stated", "derive_conditions", "derive_subtask", "keep_instruction_speed"]
