@@ -35,7 +35,7 @@ from voxposer.control.config import ExecutorConfig
 from voxposer.control.execution_result import ExecutionResult, MapSource, StopReason, evaluate
 from voxposer.control.pushing_loop import run_object
 from voxposer.control.tracking import follow
-from voxposer.errors import PlanningError
+from voxposer.errors import PlanningError, VoxPoserError
 from voxposer.perception.names import is_end_effector
 from voxposer.perception.perceiver import Perceiver
 from voxposer.planning.dynamics import DynamicsModel
@@ -157,6 +157,7 @@ class ClosedLoopController:
         if carried is not None:
             held = evaluate(carried)
             rest_z = float(held["position"][2] - np.asarray(held["aabb"])[0][2])
+        floor_z = self._hand_floor() if carried is None else None
         cfg, robot = self.config, self.robot
         control_dt = float(robot.control_period)
         steps_per_replan = max(1, round(1.0 / cfg.replan_hz / control_dt))
@@ -177,6 +178,8 @@ class ClosedLoopController:
                     return self.finish(result, "stalled", f"{name} slipped out of the hand")
                 shift = measured
                 values["affordance_map"] = _raise_to(self.grid, values["affordance_map"], rest_z)
+            elif floor_z is not None:
+                values["affordance_map"] = _raise_to(self.grid, values["affordance_map"], floor_z)
             t2 = time.perf_counter()
             ee_pos = hand_pos + shift
             holding = robot.get_gripper_state() >= 0.5
@@ -220,6 +223,17 @@ class ClosedLoopController:
                 )
             follow(self.robot, plan.trajectory, steps_per_replan, result, shift,
                    self.config.lookahead_m)
+
+    def _hand_floor(self) -> float | None:
+        """The lowest target height of the bare hand [m]: ``hand_floor_m`` above the table's
+        top (None when the table is not seen or the floor is off)."""
+        if self.config.hand_floor_m <= 0:
+            return None
+        try:
+            table = self.perceiver.detect("table")
+        except VoxPoserError:
+            return None
+        return float(np.asarray(table["aabb"])[1][2]) + self.config.hand_floor_m
 
     def _finish_gripper(self, plan: Plan) -> None:
         """Apply the gripper command of the target voxel once there (e.g. close to grasp)."""

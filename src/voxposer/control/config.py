@@ -33,6 +33,10 @@ class ExecutorConfig:
             pushed [m].
         carry_min_opening_m: … if the closed fingers are at least this far apart (closed on
             something) [m].
+        hand_floor_m: the bare hand's targets are at least this high above the table's top
+            [m]: the finger pads touch it with the grasp centre ~1.4 cm above it, and a hand
+            sent to a point on the table (a place named without a height) then drags on it and
+            stalls short (0: targets left where they are).
         ee_planner: planner parameters when the end effector is the entity.
         object_planner: planner parameters when an object or part is the entity.
         push: random-shooting MPC parameters.
@@ -47,6 +51,7 @@ class ExecutorConfig:
     max_pushes: int = 25
     carry_radius_m: float = 0.08
     carry_min_opening_m: float = 0.02
+    hand_floor_m: float = 0.02
     ee_planner: PlannerConfig = field(
         default_factory=lambda: PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=1.0))
     )
@@ -66,6 +71,9 @@ class ExecutorConfig:
             value = getattr(self, name)
             if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
                 raise ConfigError(f"ExecutorConfig.{name} must be a positive number; got {value!r}")
+        if not (isinstance(self.hand_floor_m, int | float) and 0.0 <= self.hand_floor_m <= 0.2):
+            raise ConfigError(f"ExecutorConfig.hand_floor_m must be in [0, 0.2] m; got "
+                              f"{self.hand_floor_m!r}")
         for name in ("stall_replans", "max_pushes"):
             value = getattr(self, name)
             if not isinstance(value, int) or value < 1:
