@@ -214,3 +214,30 @@ def test_moves_that_miss_their_targets_are_reported_not_dropped(world: TabletopW
     assert calls and result.missed_moves == len(calls)  # five moves per push, every one counted
     assert result.worst_miss_m == pytest.approx(0.03)
     assert f"{len(calls)} of the robot's moves ended away from their targets" in result.message
+
+
+def test_a_hand_sent_onto_the_table_aims_above_it(world: TabletopWorld) -> None:
+    """A point on the table's surface (a place named without a height) is raised to the hand's
+    floor, 2 cm above the table: the hand aims there instead of at the surface, where its finger
+    pads would drag (stalling short when it comes in low from the side); with the floor off the
+    target stays on the table."""
+    api, grid = _api(world), world.grid
+
+    def on_table() -> np.ndarray:
+        m = api.get_empty_affordance_map()
+        m[tuple(grid.world_to_voxel([-0.38, 0.0, 0.0]))] = 1
+        return m
+
+    targets = []
+    for floor in (0.02, 0.0):
+        world.reset(np.random.default_rng(0), _layout(blue_block=(0.05, -0.25)))
+        result = ClosedLoopController(world, perceive(world), np.random.default_rng(0),
+                                      ExecutorConfig(hand_floor_m=floor))(
+            lambda: perceive(world).detect("gripper"), on_table)
+        assert result.success, result.message
+        assert np.linalg.norm(world.get_ee_pose()[0][:2] - [-0.38, 0.0]) < 0.03
+        targets.append(result.last_plan.target)
+    raised, surface = targets
+    assert 0.02 <= raised[2] <= 0.035 and surface[2] < 0.01
+    with pytest.raises(Exception, match="hand_floor_m"):
+        ExecutorConfig(hand_floor_m=-0.01)
