@@ -73,7 +73,7 @@ def test_a_speed_is_measured_as_the_words_ask(subtask: str, stated: str, expecte
     "expect(moved('blue block', toward='back'))",
     "composer('grasp the blue block at 3x speed')\nexpect(holding('blue block'), "
     "speed('gripper', 3))",
-    "composer('move to the top of the blue block')",
+    "composer('move to the top of the blue block')\nexpect(above('gripper', 'blue block', cm=5))",
     "composer('back to default pose')",
     "for _ in range(2):\n    composer('push the blue block to the back side of the table')",
 ])
@@ -121,3 +121,13 @@ def test_the_runtime_runs_the_derived_conditions_and_says_so() -> None:
     off = runtime(Backend(entries), derived_conditions=False)
     off.run("push the blue block to the back side of the table")
     assert [r.condition for r in off.intent.results] == conditions[:1]
+
+
+@pytest.mark.parametrize(("subtask", "expected"), [
+    ("move to the front side of the pink block", "on('gripper', 'pink block', 'front side')"),
+    ("go to the left of the blue block", "on('gripper', 'blue block', 'left side')"),
+    ("move to the top of the blue block", "above('gripper', 'blue block')"),
+])
+def test_a_motion_beside_an_object_must_end_on_that_side(subtask: str, expected: str) -> None:
+    plan = f"composer({subtask!r})\nexpect(near('gripper', '{subtask.split('the ')[-1]}', cm=12))"
+    assert derived(plan).splitlines()[1].endswith(f", {expected})")

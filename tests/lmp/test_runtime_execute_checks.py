@@ -8,7 +8,7 @@ from voxposer.errors import ResultError
 from voxposer.lmp import LMPRuntime, RecordingHandler, Transcript, make_tabletop_scene
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.replay import ReplayBackend
-from voxposer.lmp.checks import check_execute_target
+from voxposer.lmp.checks import check_execute_target, check_movable_role
 
 CENTRE = "a point at the center of the pink block"
 BLOCK_AS_MOVABLE = ("movable = parse_query_obj('pink block')\n"
@@ -69,3 +69,52 @@ def test_an_execute_without_a_target_is_corrected_before_it_executes() -> None:
     assert "affordance_map" in request.maps
     failed = [e for e in rt.transcript.events if e["event"] == "exec" and not e["ok"]]
     assert len(failed) == 1 and "needs an affordance_map" in failed[0]["error"]
+
+
+BESIDE = "the front side of the pink block"
+
+
+def _beside(composer: list[str]) -> list[dict]:
+    return [
+        {"lmp": "planner", "query": "go to the front side of the pink block",
+         "responses": [f"composer('move to {BESIDE}')"]},
+        {"lmp": "composer", "query": f"move to {BESIDE}", "responses": composer},
+        {"lmp": "get_affordance_map", "query": BESIDE, "responses": [
+            "affordance_map = get_empty_affordance_map()\n"
+            "x, y, z = point_beside(parse_query_obj('pink block'), 'front', 5)\n"
+            "affordance_map[x, y, z] = 1\nret_val = affordance_map"]},
+    ]
+
+
+def test_a_hand_motion_with_the_object_as_movable_is_corrected_before_it_executes() -> None:
+    """'move to the front side of the pink block' written with the pink block as the movable
+    would push the block in front of itself; the model is told the gripper moves."""
+    moved_block = f"movable = parse_query_obj('pink block')\naffordance_map = " \
+                  f"get_affordance_map('{BESIDE}')\nexecute(movable, affordance_map=affordance_map)"
+    rt = LMPRuntime(make_tabletop_scene(), ReplayBackend(_beside(
+        [moved_block, moved_block.replace("'pink block')\naff", "'gripper')\naff")])),
+        handler=RecordingHandler(), transcript=Transcript())
+    rt.run("go to the front side of the pink block")
+    (request,) = rt.handler.requests
+    assert request.movable()["name"] == "gripper"
+    failed = [e for e in rt.transcript.events if e["event"] == "exec" and not e["ok"]]
+    assert len(failed) == 1 and "not what moves" in failed[0]["error"]
+
+
+@pytest.mark.parametrize(("subtask", "movable", "refused"), [
+    ("move to the front side of the pink block", "pink block", "not what moves"),
+    ("move to the front side of the pink block", "gripper", None),
+    ("nudge the pink block a few centimeters to the back", "gripper", "would not move"),
+    ("push the pink block to the back side of the table", "pink block", None),
+    ("move the pink block to a point 9cm above the table", "gripper", None),  # carried
+    ("close the top drawer by pushing", "gripper", None),
+    ("push the top drawer closed", "gripper", None),  # a fixture: pushed through the hand
+])
+def test_the_movable_must_be_what_the_sub_task_moves(subtask: str, movable: str,
+                                                     refused: str | None) -> None:
+    entity = LMPAPI(make_tabletop_scene()).detect(movable)
+    if refused is None:
+        check_movable_role(subtask, entity)
+    else:
+        with pytest.raises(ResultError, match=refused):
+            check_movable_role(subtask, entity)

@@ -7,6 +7,7 @@ model can act on.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
@@ -101,3 +102,48 @@ def check_execute_target(movable: Any, affordance: Any) -> None:
             f"entity, so nothing would move. The movable is what moves: to grasp or reach the "
             f"{name}, move the gripper (`movable = parse_query_obj('gripper')`, with a gripper "
             f"map to close it there); to move the {name}, target the place it should go")
+
+
+#: a sub-task that moves the hand to a place ("move to the front side of the pink block").
+_HAND_MOTION = re.compile(r"^(?:then\s+|and\s+)?(?:move|go|head|travel|get|come|hover)\s+"
+                          r"(?:over\s+|back\s+)?(?:to|towards?|above|over|near|next\s+to|into)\b")
+#: a sub-task that pushes an object: the words naming it.
+_PUSHED = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove)\s+(?:the\s+)?"
+                     r"(?P<obj>[a-z ]+?)\s*(?:\b(?:to|towards?|along|onto|into|in|so|while|"
+                     r"until|by|a|back|forward|left|right|away|across|over)\b|$)")
+#: words of fixtures: pushed through a part (the handle) as the examples do.
+_FIXTURES = re.compile(r"\b(?:drawer|handle|door|window|fridge|cabinet|lid)s?\b")
+
+
+def check_movable_role(subtask: str, movable: Any) -> None:
+    """Refuse an ``execute`` whose entity contradicts the sub-task's words: a hand motion
+    ("move to the front side of the pink block") with an object as the movable (the object is
+    where the hand goes: pushing it there moves the wrong thing), or a push of a block ("nudge
+    the gray block to the back") with the gripper as the movable (the block would never move).
+
+    Args:
+        subtask: the composer's query.
+        movable: the entity (:class:`ObjectView`), as ``execute`` received it.
+
+    Raises:
+        ResultError: naming the sub-task, the entity given and the one to write.
+    """
+    text = " ".join(str(subtask).lower().split())
+    name = str(getattr(movable, "name", ""))
+    if not name:
+        return
+    if _HAND_MOTION.match(text) and not is_end_effector(name):
+        raise ResultError(
+            f"execute(): the sub-task {subtask!r} moves the gripper to a place, but the movable "
+            f"is the {name}: the {name} is where the gripper goes, not what moves. Write "
+            "`movable = parse_query_obj('gripper')` (an object is the movable only when the "
+            "sub-task pushes or moves that object)")
+    pushed = _PUSHED.match(text)
+    if pushed and is_end_effector(name) and not _FIXTURES.search(pushed.group("obj")) \
+            and not is_end_effector(pushed.group("obj")) \
+            and pushed.group("obj").strip() not in {"it", "them", "this", "that", "one"}:
+        obj = pushed.group("obj").strip()
+        raise ResultError(
+            f"execute(): the sub-task {subtask!r} pushes the {obj}, but the movable is the "
+            f"gripper, so the {obj} would not move. Write `movable = parse_query_obj('{obj}')` "
+            f"and an affordance map of where the {obj} should go")

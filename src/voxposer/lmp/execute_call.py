@@ -3,7 +3,8 @@
 It turns the arguments into re-evaluable callables (:class:`ExecutionRequest`), refuses what
 cannot run before anything moves (unknown map names; no affordance map; an entity that is its
 own target:
-:func:`~voxposer.lmp.checks.check_execute_target`), hands the request to the execute handler,
+:func:`~voxposer.lmp.checks.check_execute_target`; an entity the sub-task's words contradict:
+:func:`~voxposer.lmp.checks.check_movable_role`), hands the request to the execute handler,
 and records the outcome in the transcript and for the intent checks. A failure of the handler
 is wrapped in :class:`~voxposer.lmp.runtime_errors.NoRetry`: it already had side effects.
 """
@@ -14,7 +15,7 @@ from collections.abc import Callable
 from typing import Any
 
 from voxposer.errors import ConfigError, ResultError, pending_interrupt
-from voxposer.lmp.checks import check_execute_target
+from voxposer.lmp.checks import check_execute_target, check_movable_role
 from voxposer.lmp.handoff import MAP_ARGUMENTS, ExecuteHandler, ExecutionRequest
 from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.object_view import ObjectView
@@ -61,7 +62,9 @@ class ExecuteCall:
                 "a target, also 'move away from X' (a point some cm beyond X) or 'release' "
                 "(the gripper's own position)")
         with suspend_time_limit():
-            check_execute_target(request.movable(), affordance())
+            entity = request.movable()
+            check_execute_target(entity, affordance())
+            check_movable_role(self.subtask, entity)
         self.on_effect()
         with suspend_time_limit():
             try:

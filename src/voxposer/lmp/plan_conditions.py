@@ -7,6 +7,8 @@ unmeasured. The 1.5B model often answers the same plan again, so a run would cla
 its own sub-tasks' words deny. :func:`derive_conditions` then completes the conditions from
 those words, as the checklist asks:
 
+- "move to the <side> of the <object>": ``on('gripper', <object>, <side>)`` (beside it on
+  that side; ``above`` for its top), unless an ``on``/``above`` of that object is stated;
 - "staying on the <side> of the <object>": ``passed_on('gripper', <object>, <side>)`` (the side
   kept while passing); an ``on(...)`` beside that object, or of that object on the table, is
   dropped — the hand only passes it, and the object does not move;
@@ -41,6 +43,8 @@ _SIDE: Final = r"(top|bottom|(?:front|back|left|right|near|far)(?:\s+side)?)"
 _STAY_ON: Final = re.compile(r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|"
                              r"passing|going|go)\s+(?:on|over|at|along|to|by)\s+the\s+" + _SIDE
                              + r"\s+of\s+the\s+([a-z ]+)")
+_BESIDE: Final = re.compile(r"^(?:then\s+)?(?:move|go|head)\s+to\s+the\s+(top|(?:front|back|left|right)"
+                            r"(?:\s+side)?)\s+of\s+the\s+([a-z ]+?)\.?$")
 _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
                           r"(?:the\s+)?([a-z ]+)")
 _RELEASE: Final = re.compile(r"^(?:then\s+|and\s+)?(?:release|drop|let\s+go\s+of|put\s+down)\s+"
@@ -154,6 +158,15 @@ def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
         notes += [f"- {c.source}" for c in dropped]
         if not any(c.helper == "passed_on" and c.args[1:2] == (low,) for c in conds):
             add("passed_on", (mover, low), f"passed_on({mover!r}, {obj!r}, {stay.group(1)!r})")
+    if (beside := _BESIDE.match(text)) and (obj := _object(beside.group(2), objects)) \
+            and obj != "table" and not any(c.helper in ("on", "above") and c.args[1:2]
+                                          == (obj.lower(),) for c in conds):
+        side = beside.group(1)
+        if side == "top":
+            add("above", ("gripper", obj.lower()), f"above('gripper', {obj!r})")
+        else:
+            side = side if side.endswith("side") else f"{side} side"
+            add("on", ("gripper", obj.lower()), f"on('gripper', {obj!r}, {side!r})")
     if mover != "gripper":
         if not any(c.helper == "moved" and c.args[:1] == (mover.lower(),) for c in conds):
             add("moved", (mover.lower(),), f"moved({mover!r})")
