@@ -99,3 +99,12 @@ def test_the_planner_prompts_examples_have_no_gaps() -> None:
 def test_reference_plans_of_every_task_have_no_post_condition_gaps(task: str) -> None:
     for instruction, code in reference_plans(task):
         assert intent_gaps(code) == [], instruction
+
+
+def test_staying_on_a_part_of_the_table_asks_for_no_side_passed() -> None:
+    """"… while staying on the right side of the table" keeps a push in a table part (``on``),
+    it passes no object's side: asking for passed_on made the model measure the pushed block's
+    side (dev seeds)."""
+    plan = ("composer('push the yellow block to the right side of the table while staying on "
+            "the right side of the table')\nexpect(on('yellow block', 'table', 'right side'))")
+    assert intent_gaps(plan) == []

@@ -118,6 +118,17 @@ STAY_OBJECTS = ("table", "gripper", "yellow block", "brown block", "blue block")
      "expect(on('gripper', 'brown block', 'front side'))",
      "composer('move to the back left corner of the table while staying on the front side of "
      "the brown block')"),
+    # a distance to keep planned as a visit to the object: dropped, the motion keeps it
+    ("take the gripper to the right side of the table and keep 11cm clear of the blue block",
+     "composer('move to the right side of the table')\n"
+     "composer('move to a point 11cm above the blue block')\n"
+     "expect(above('gripper', 'blue block', cm=11))\ncomposer('back to default pose')",
+     "composer('move to the right side of the table while staying at least 11cm from the blue "
+     "block')\ncomposer('back to default pose')"),
+    ("get to the back side of the table while staying 7 cm or more away from the blue block",
+     "composer('move to the back side of the table')",
+     "composer('move to the back side of the table while staying at least 7cm from the blue "
+     "block')"),
 ])
 def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, plan: str,
                                                             expected: str) -> None:
@@ -133,6 +144,9 @@ def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, pl
     ("push the blue block while it stays on the left side of the table",  # a table part
      "composer('push the blue block to the left')"),
     ("move to the back side of the table", "composer('move to the back side of the table')"),
+    ("go to the back side of the table, keeping 9 cm from the blue block",  # carried already
+     "composer('move to the back side of the table while staying at least 9cm from the blue "
+     "block')"),
 ])
 def test_plans_that_carry_the_clause_or_are_unclear_are_left_alone(instruction: str,
                                                                    plan: str) -> None:

@@ -41,7 +41,7 @@ _REGION: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s
                             r"(?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge)\s+of\s+the\s+table")
 _STAY_ON: Final = re.compile(r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|"
                              r"passing)\s+(?:on|over|at|along)\s+the\s+(?:top|[a-z]+\s+side)\s+"
-                             r"of\s+the\b")
+                             r"of\s+the\b(?!\s+table\b)")
 _NO_MOTION: Final = re.compile(r"^(?:back to (?:the )?default pose|release|open the gripper|"
                                r"close the gripper|let go)\b")
 

@@ -22,7 +22,10 @@ free object at a place, when no earlier sub-task grasped it, by the examples' ow
 asks once more, and the correction often repeats the plan): :func:`carry_stay_on` gives the
 plan's one motion the instruction's clause ("move to the back side of the table while staying
 on the top of the yellow block"), and drops a sub-task that went to that side of the object
-instead of passing it ("move to the front side of the brown block" after the motion).
+instead of passing it ("move to the front side of the brown block" after the motion). A
+distance to keep ("keep 11cm clear of the blue block") is carried the same way ("… while
+staying at least 11cm from the blue block"), a sub-task that went to the object instead ("move
+to a point 11cm above the blue block") dropped.
 """
 
 from __future__ import annotations
@@ -49,6 +52,14 @@ _STAY_ON: Final = re.compile(
     r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|passing|going|go)\s+"
     r"(?:on|over|at|along|to|by)\s+the\s+(top|bottom|(?:front|back|left|right)(?:\s+side)?)"
     r"\s+of\s+the\s+([a-z]+(?:\s+[a-z]+)?)")
+#: "keep 11cm clear of the blue block", "staying at least 5 cm away from the …" in an
+#: instruction: (cm, object words).
+_KEEP_AWAY: Final = re.compile(
+    r"\b(?:keep|keeping|stay|staying|stays|remain|remaining)\s+(?:a\s+distance\s+of\s+)?"
+    r"(?:at\s+least\s+)?(?P<cm>\d+(?:\.\d+)?)\s*(?:cm|centimet(?:er|re)s?)\s+(?:or\s+more\s+)?"
+    r"(?:clear\s+of|away\s+from|from)\s+the\s+(?P<obj>[a-z]+(?:\s+[a-z]+)?)")
+#: a sub-task that carries a distance kept from an object.
+_KEEPS_AWAY: Final = re.compile(r"\b(?:at\s+least|clear\s+of|away\s+from|avoid|avoiding)\b")
 #: a sub-task that moves the hand somewhere.
 _MOTION: Final = re.compile(r"^\s*(?:move|go|head|travel|bring|take)\b", re.I)
 #: words of things fixed to the scene: grasped to pull or turn them, never to lift.
@@ -104,31 +115,51 @@ def grasp_before_drop(code: str) -> str | None:
     return "\n".join(lines) if changed else None
 
 
+def _clause(instruction: str, objects: tuple[str, ...] | list[str]
+            ) -> tuple[str, str, re.Pattern[str], re.Pattern[str]] | None:
+    """The instruction's constraint clause a plan must carry: (object, the words a sub-task
+    carries it with, how a sub-task carrying it reads, how a sub-task that went to the object
+    instead of keeping the constraint reads); None when it has none about a scene object."""
+    text = " ".join(instruction.lower().split())
+    names = sorted((o.lower() for o in objects), key=len, reverse=True)
+
+    def named(said: str) -> str | None:
+        obj = next((o for o in names if said == o or said.startswith(o + " ")), None)
+        return None if obj in (None, "table") else obj
+
+    if (stay := _STAY_ON.search(text)) and (obj := named(stay.group(2))):
+        side = stay.group(1)
+        return (obj, f"while staying on the {side} of the {obj}", _STAY_ON,
+                re.compile(rf"^(?:move|go)\s+to\s+the\s+{side}(?:\s+side)?\s+of\s+the\s+{obj}$"))
+    if (away := _KEEP_AWAY.search(text)) and (obj := named(away.group("obj"))):
+        cm = away.group("cm")
+        return (obj, f"while staying at least {cm}cm from the {obj}", _KEEPS_AWAY,
+                re.compile(rf"^(?:move|go)\s+to\s+(?:a\s+point\s+[\d.]+\s*cm\s+(?:above|away\s+"
+                           rf"from|from|beside|behind|in\s+front\s+of)\s+|the\s+\w+(?:\s+side)?\s+"
+                           rf"of\s+)the\s+{obj}$"))
+    return None
+
+
 def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[str]) -> str | None:
-    """``code`` with the instruction's "staying on the <side> of the <object>" clause given to
-    its one motion sub-task when no sub-task carries it (module docs); None when it needs
-    nothing or cannot tell which motion. ``objects``: the scene's object names."""
-    clause = _STAY_ON.search(" ".join(instruction.lower().split()))
+    """``code`` with the instruction's "staying on the <side> of the <object>" (or "keep N cm
+    clear of the <object>") clause given to its one motion sub-task when no sub-task carries
+    it (module docs); None when it needs nothing or cannot tell which motion. ``objects``: the
+    scene's object names."""
+    clause = _clause(instruction, objects)
     steps = plain_steps(code)
     if clause is None or not steps:
         return None
-    side, said = clause.groups()
-    obj = next((o.lower() for o in sorted(objects, key=len, reverse=True)
-                if said == o.lower() or said.startswith(o.lower() + " ")), None)
-    if obj is None or obj == "table":
+    obj, words, carried, instead = clause
+    if any(carried.search(s.lower()) and obj in s.lower() for s, _, _ in steps):
         return None
-    if any(_STAY_ON.search(s.lower()) and obj in s.lower() for s, _, _ in steps):
-        return None
-    beside = re.compile(rf"^(?:move|go)\s+to\s+the\s+{side}(?:\s+side)?\s+of\s+the\s+{obj}$")
-    kept = [st for st in steps if not beside.match(" ".join(st[0].lower().split()))]
+    kept = [st for st in steps if not instead.match(" ".join(st[0].lower().split()))]
     motions = [i for i, (s, _, _) in enumerate(kept) if _MOTION.match(s) and obj not in s.lower()]
     if len(motions) != 1:
         return None
     lines: list[str] = []
     for i, (subtask, line, expects) in enumerate(kept):
         if i == motions[0]:
-            line = "composer(" + repr(f"{subtask.rstrip(' .')} while staying on the {side} "
-                                      f"of the {obj}") + ")"
+            line = f"composer({subtask.rstrip(' .') + ' ' + words!r})"
         lines += [line, *expects]
     return "\n".join(lines)
 
