@@ -5,7 +5,12 @@ from __future__ import annotations
 import pytest
 
 from tests.lmp.test_runtime_intent import Backend, runtime
-from voxposer.lmp.plan_completion import carry_stay_on, grasp_before_drop, lift_after_grasp
+from voxposer.lmp.plan_completion import (
+    carry_stay_on,
+    drop_final_reset,
+    grasp_before_drop,
+    lift_after_grasp,
+)
 
 GRASP = ("composer('grasp the purple block while moving at 3x speed')\n"
          "expect(holding('purple block'), speed('gripper', 3))")
@@ -151,3 +156,22 @@ def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, pl
 def test_plans_that_carry_the_clause_or_are_unclear_are_left_alone(instruction: str,
                                                                    plan: str) -> None:
     assert carry_stay_on(instruction, plan, STAY_OBJECTS) is None
+
+
+MOVE = "composer('move to the right side of the table')\nexpect(on('gripper', 'table', 'right side'))"
+
+
+def test_a_final_reset_after_a_hand_motion_is_dropped() -> None:
+    assert drop_final_reset(MOVE + "\ncomposer('back to default pose')") == MOVE
+
+
+@pytest.mark.parametrize("plan", [
+    MOVE,
+    "composer('grasp the blue block')\ncomposer('back to default pose')",  # the lift
+    DROP_PLAN + "\ncomposer('back to default pose')",  # after the release
+    "composer('push the blue block to the back side of the table')\n"
+    "composer('back to default pose')",
+    "composer('back to default pose')",
+])
+def test_other_final_resets_stay(plan: str) -> None:
+    assert drop_final_reset(plan) is None

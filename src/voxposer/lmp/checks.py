@@ -115,35 +115,39 @@ _PUSHED = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove)\s+(?:the\s
 _FIXTURES = re.compile(r"\b(?:drawer|handle|door|window|fridge|cabinet|lid)s?\b")
 
 
-def check_movable_role(subtask: str, movable: Any) -> None:
-    """Refuse an ``execute`` whose entity contradicts the sub-task's words: a hand motion
-    ("move to the front side of the pink block") with an object as the movable (the object is
-    where the hand goes: pushing it there moves the wrong thing), or a push of a block ("nudge
-    the gray block to the back") with the gripper as the movable (the block would never move).
+def corrected_movable(subtask: str, movable: Any, objects: tuple[str, ...] = ()
+                      ) -> tuple[str, str] | None:
+    """The entity ``subtask``'s words say moves, when the ``execute`` got another: a hand
+    motion ("move to the front side of the pink block") with an object as the movable (the
+    object is where the hand goes: pushing it there moves the wrong thing) → the gripper; a
+    push of a block ("nudge the gray block to the back") with the gripper as the movable (the
+    block would never move) → that block. The 1.5B model, told so, mostly rewrote the same
+    movable (dev seeds), so the runtime corrects it instead of asking.
 
     Args:
         subtask: the composer's query.
         movable: the entity (:class:`ObjectView`), as ``execute`` received it.
+        objects: the scene's object names; a pushed object must begin with one of them.
 
-    Raises:
-        ResultError: naming the sub-task, the entity given and the one to write.
+    Returns:
+        (the words of the entity that moves, why), or None when the movable fits the words.
     """
     text = " ".join(str(subtask).lower().split())
     name = str(getattr(movable, "name", ""))
     if not name:
-        return
+        return None
     if _HAND_MOTION.match(text) and not is_end_effector(name):
-        raise ResultError(
-            f"execute(): the sub-task {subtask!r} moves the gripper to a place, but the movable "
-            f"is the {name}: the {name} is where the gripper goes, not what moves. Write "
-            "`movable = parse_query_obj('gripper')` (an object is the movable only when the "
-            "sub-task pushes or moves that object)")
+        return "gripper", (f"the sub-task moves the gripper to a place; the {name} is where it "
+                           "goes, not what moves")
     pushed = _PUSHED.match(text)
     if pushed and is_end_effector(name) and not _FIXTURES.search(pushed.group("obj")) \
             and not is_end_effector(pushed.group("obj")) \
             and pushed.group("obj").strip() not in {"it", "them", "this", "that", "one"}:
         obj = pushed.group("obj").strip()
-        raise ResultError(
-            f"execute(): the sub-task {subtask!r} pushes the {obj}, but the movable is the "
-            f"gripper, so the {obj} would not move. Write `movable = parse_query_obj('{obj}')` "
-            f"and an affordance map of where the {obj} should go")
+        if objects:
+            obj = next((o for o in sorted(objects, key=len, reverse=True)
+                        if obj == o.lower() or obj.startswith(o.lower() + " ")), "")
+            if not obj:
+                return None
+        return obj, f"the sub-task pushes the {obj}; with the gripper as the movable it would not move"
+    return None

@@ -3,8 +3,9 @@
 It turns the arguments into re-evaluable callables (:class:`ExecutionRequest`), refuses what
 cannot run before anything moves (unknown map names; no affordance map; an entity that is its
 own target:
-:func:`~voxposer.lmp.checks.check_execute_target`; an entity the sub-task's words contradict:
-:func:`~voxposer.lmp.checks.check_movable_role`), hands the request to the execute handler,
+:func:`~voxposer.lmp.checks.check_execute_target`), corrects an entity the sub-task's words
+contradict (:func:`~voxposer.lmp.checks.corrected_movable`, a ``movable_corrected`` transcript
+event), hands the request to the execute handler,
 and records the outcome in the transcript and for the intent checks. A failure of the handler
 is wrapped in :class:`~voxposer.lmp.runtime_errors.NoRetry`: it already had side effects.
 """
@@ -12,10 +13,11 @@ is wrapped in :class:`~voxposer.lmp.runtime_errors.NoRetry`: it already had side
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 from voxposer.errors import ConfigError, ResultError, pending_interrupt
-from voxposer.lmp.checks import check_execute_target, check_movable_role
+from voxposer.lmp.checks import check_execute_target, corrected_movable
 from voxposer.lmp.handoff import MAP_ARGUMENTS, ExecuteHandler, ExecutionRequest
 from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.object_view import ObjectView
@@ -34,17 +36,19 @@ class ExecuteCall:
         transcript: where each call's outcome is written.
         intent: told of every executed outcome (paths for ``away``).
         on_effect: called once the request is about to reach the handler (a side effect).
+        objects: the scene's object names (a pushed object is one of them).
     """
 
     def __init__(self, subtask: str, handler: ExecuteHandler, program: Callable[[str, str], Any],
                  transcript: Transcript, intent: IntentChecks,
-                 on_effect: Callable[[], None]) -> None:
+                 on_effect: Callable[[], None], objects: tuple[str, ...] = ()) -> None:
         self.subtask = subtask
         self.handler = handler
         self.program = program
         self.transcript = transcript
         self.intent = intent
         self.on_effect = on_effect
+        self.objects = tuple(objects)
         self.__name__ = "execute"
 
     def __call__(self, movable: Any, **maps: Any) -> None:
@@ -63,8 +67,13 @@ class ExecuteCall:
                 "(the gripper's own position)")
         with suspend_time_limit():
             entity = request.movable()
+            if (fix := corrected_movable(self.subtask, entity, self.objects)) is not None:
+                request = replace(request, movable=self.program("parse_query_obj", fix[0]))
+                self.transcript.write("movable_corrected", subtask=self.subtask,
+                                      movable=str(getattr(entity, "name", "")), to=fix[0],
+                                      why=fix[1])
+                entity = request.movable()
             check_execute_target(entity, affordance())
-            check_movable_role(self.subtask, entity)
         self.on_effect()
         with suspend_time_limit():
             try:

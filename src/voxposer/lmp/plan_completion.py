@@ -25,7 +25,9 @@ on the top of the yellow block"), and drops a sub-task that went to that side of
 instead of passing it ("move to the front side of the brown block" after the motion). A
 distance to keep ("keep 11cm clear of the blue block") is carried the same way ("… while
 staying at least 11cm from the blue block"), a sub-task that went to the object instead ("move
-to a point 11cm above the blue block") dropped.
+to a point 11cm above the blue block") dropped. A plan that takes the hand somewhere and then
+sends it "back to default pose" undoes what was asked: :func:`drop_final_reset` drops that
+last sub-task.
 """
 
 from __future__ import annotations
@@ -60,6 +62,8 @@ _KEEP_AWAY: Final = re.compile(
     r"(?:clear\s+of|away\s+from|from)\s+the\s+(?P<obj>[a-z]+(?:\s+[a-z]+)?)")
 #: a sub-task that carries a distance kept from an object.
 _KEEPS_AWAY: Final = re.compile(r"\b(?:at\s+least|clear\s+of|away\s+from|avoid|avoiding)\b")
+#: a sub-task that takes the hand to a place.
+_HAND_TO: Final = re.compile(r"^\s*(?:then\s+)?(?:move|go|head|travel)\s+(?:over\s+)?(?:to|towards?)\b")
 #: a sub-task that moves the hand somewhere.
 _MOTION: Final = re.compile(r"^\s*(?:move|go|head|travel|bring|take)\b", re.I)
 #: words of things fixed to the scene: grasped to pull or turn them, never to lift.
@@ -164,5 +168,22 @@ def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[s
     return "\n".join(lines)
 
 
-__all__ = ["CARRY_CM", "LIFT_SUBTASK", "carry_stay_on", "drop_subtasks", "grasp_before_drop",
-           "lift_after_grasp"]
+def drop_final_reset(code: str) -> str | None:
+    """``code`` without a final ``composer('back to default pose')`` that follows a motion of
+    the hand to a place ("move to the right side of the table"): it would undo the motion the
+    instruction asked (after a grasp, a release or a push it stays: the hand's place is not
+    the point there). None when it needs nothing."""
+    steps = plain_steps(code)
+    if not steps or len(steps) < 2:
+        return None
+    last, before = steps[-1][0].lower().strip(" ."), steps[-2][0].lower()
+    if last != LIFT_SUBTASK or not _HAND_TO.match(before):
+        return None
+    lines: list[str] = []
+    for _, line, expects in steps[:-1]:
+        lines += [line, *expects]
+    return "\n".join([*lines, *steps[-1][2]])
+
+
+__all__ = ["CARRY_CM", "LIFT_SUBTASK", "carry_stay_on", "drop_final_reset", "drop_subtasks",
+           "grasp_before_drop", "lift_after_grasp"]

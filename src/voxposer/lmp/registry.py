@@ -92,6 +92,8 @@ class LMPConfig:
         carry_stay_on: the instruction's "staying on the <side> of the <object>", carried by
             no sub-task, is given to the plan's one motion
             (:func:`~voxposer.lmp.plan_completion.carry_stay_on`).
+        drop_final_reset: a final "back to default pose" after a motion of the hand to a
+            place is dropped (:func:`~voxposer.lmp.plan_completion.drop_final_reset`).
         keep_instruction_speed: a sub-task whose speed asks the opposite of the
             instruction's ("faster" planned for "a quarter of the speed") gets the
             instruction's speed phrase (:func:`~voxposer.lmp.plan_conditions.keep_instruction_speed`).
@@ -118,6 +120,7 @@ class LMPConfig:
     lift_after_grasp: bool = True
     grasp_before_drop: bool = True
     carry_stay_on: bool = True
+    drop_final_reset: bool = True
     keep_instruction_speed: bool = True
     derived_conditions: bool = True
     resolve_exact_names: bool = True

@@ -46,6 +46,7 @@ from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.plan_completion import (
     LIFT_SUBTASK,
     carry_stay_on,
+    drop_final_reset,
     grasp_before_drop,
     lift_after_grasp,
 )
@@ -248,6 +249,11 @@ class LMPRuntime:
                                   added=f"composer({LIFT_SUBTASK!r})",
                                   why="the plan ended on a grasp of a free object")
             code = done
+        if self.config.drop_final_reset and (done := drop_final_reset(code)) is not None:
+            self.transcript.write("plan_completed", query=query, attempt=attempt,
+                                  removed=f"composer({LIFT_SUBTASK!r})",
+                                  why="it would undo the hand's motion the plan ends on")
+            code = done
         if self.config.derived_conditions and (derived := derive_conditions(
                 code, tuple(self.scene.object_names))) is not None:
             code = derived[0]
@@ -298,7 +304,8 @@ class LMPRuntime:
             for name in ("parse_query_obj", *MAP_LMPS):
                 out[name] = self._lazy(name)
             out["execute"] = ExecuteCall(query, self.handler, self.program, self.transcript,
-                                         self.intent, self._count_effect)
+                                         self.intent, self._count_effect,
+                                         tuple(self.scene.object_names))
             out["reset_to_default_pose"] = self._reset
         elif spec.role == "planner":
             out = {"composer": self._composer, "reset_to_default_pose": self._reset,
