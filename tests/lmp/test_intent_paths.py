@@ -180,3 +180,21 @@ def test_an_obstacle_pushed_aside_counts_where_it_was(checks: IntentChecks) -> N
     scene.move("green block", [0.0, -0.05, 0.0])
     cond = h["away"]("blue block", "green block")
     assert not cond.held and "closest 2.0 cm" in cond.measured
+
+
+def test_along_a_line_needs_travel_along_its_axis_not_onto_it(checks: IntentChecks) -> None:
+    """Lines of the box scene run along y, 20 cm long: a push onto the line's middle from the
+    side moves the block 12 cm but only across; one down the line covers 16 cm of it."""
+    h, scene = helpers(checks), checks.api.scene
+    c = scene.detect("yellow line").position
+    checks.begin_subtask("push the blue block along the yellow line")
+    onto = line(c + np.array([0.12, 0.0, 0.025]), c + np.array([0.0, 0.02, 0.025]), 12)
+    executed(checks, onto, entity="blue block", entity_path=onto)
+    cond = h["along"]("blue block", "yellow line")
+    assert not cond.held and "needs 10.0" in cond.measured
+    checks.begin_subtask("push the blue block along the yellow line")
+    down = line(c + np.array([0.01, -0.08, 0.025]), c + np.array([0.01, 0.08, 0.025]), 17)
+    executed(checks, down, entity="blue block", entity_path=down)
+    cond = h["along"]("blue block", "yellow line")
+    assert cond.held and "went 16.0 cm" in cond.measured
+    assert not h["along"]("blue block", "yellow line", cm=18).held

@@ -131,3 +131,12 @@ def test_the_runtime_runs_the_derived_conditions_and_says_so() -> None:
 def test_a_motion_beside_an_object_must_end_on_that_side(subtask: str, expected: str) -> None:
     plan = f"composer({subtask!r})\nexpect(near('gripper', '{subtask.split('the ')[-1]}', cm=12))"
     assert derived(plan).splitlines()[1].endswith(f", {expected})")
+
+
+def test_a_push_along_a_line_must_go_along_it() -> None:
+    plan = ("composer('slide the blue block along the yellow line')\n"
+            "expect(moved('blue block', cm=10), near('blue block', 'yellow line', cm=4))")
+    assert derived(plan).splitlines()[1].endswith(", along('blue block', 'yellow line'))")
+    ends = derive_conditions("composer('push the blue block to the near end of the yellow line')",
+                             OBJECTS)
+    assert ends is not None and "along(" not in ends[0]  # a push to one end is not along it

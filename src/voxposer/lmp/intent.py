@@ -37,6 +37,7 @@ from voxposer.lmp.intent_paths import (
     densify,
     face_shift,
     is_compact,
+    line_progress,
     motion_speeds,
     side_pass,
     speed_band,
@@ -63,8 +64,10 @@ AWAY_CM: Final = 4.0
 #: voxel of the perceived boxes (the benchmark's "at least [dist]cm" allows the same 0.5 cm).
 DISTANCE_SLACK_CM: Final = 0.5
 #: the names the planner's code sees.
+#: "along a line": the pushed object's centre within this [cm] of the line's axis.
+LINE_BAND_CM: Final = 4.0
 HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "passed_on", "speed",
-                  "holding", "released")
+                  "holding", "released", "along")
 
 
 class IntentChecks:
@@ -176,7 +179,7 @@ class IntentChecks:
         for cond in conditions:
             if not isinstance(cond, Condition):
                 raise ConfigError(f"expect() takes conditions from moved/near/on/above/away/"
-                                  f"passed_on/speed/holding/released; got {type(cond).__name__} {cond!r}")
+                                  f"passed_on/speed/holding/released/along; got {type(cond).__name__} {cond!r}")
             self.results.append(IntentResult(self._subtask, cond.text, bool(cond.held),
                                              cond.measured, bool(cond.error)))
         return all(bool(c.held) for c in conditions)
@@ -357,6 +360,19 @@ class IntentChecks:
         return Condition(_call("released", obj), not (closed and dist <= HOLD_CM),
                          f"gripper {'closed' if closed else 'open'}, the {name} {dist:.1f} cm "
                          "from it")
+
+    def along(self, obj: str, line: str, cm: float | None = None) -> Condition:
+        """During the last sub-task ``obj``'s path went at least ``cm`` [cm] (default: half
+        the line's length) along ``line``'s long axis without leaving it (its centre within
+        :data:`LINE_BAND_CM` of the axis): a push *along* the line, not onto it."""
+        name, other = self._name(obj), self._name(line)
+        paths = self._paths.get(name, [])
+        points = np.concatenate(paths) if paths else self._centre(name)[None]
+        lo, hi = self._aabb(other)
+        need = 50.0 * float(np.max((hi - lo)[:2])) if cm is None else float(cm)
+        went = 100.0 * line_progress(points, lo, hi, LINE_BAND_CM / 100.0)
+        return Condition(_call("along", obj, line, cm=cm), went >= need,
+                         f"went {went:.1f} cm along the {other} (needs {need:.1f})")
 
     # --------------------------------------------------------------- perception
     def _name(self, obj: Any) -> str:

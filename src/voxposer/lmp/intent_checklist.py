@@ -32,7 +32,7 @@ from voxposer.perception.names import is_end_effector, normalize_name
 
 #: the post-condition helpers the checklist reads (:data:`voxposer.lmp.intent.HELPERS`).
 _CONDITIONS: Final = frozenset({"moved", "near", "on", "above", "away", "passed_on", "speed",
-                                "holding", "released"})
+                                "holding", "released", "along"})
 _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
                           r"(?:the\s+)?([a-z]+)")
 _NEAR: Final = re.compile(r"\b(?:within|near|close to|closer than|next to|around)\b[^,;]*?"

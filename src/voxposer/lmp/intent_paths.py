@@ -116,7 +116,7 @@ def speed_band(scale: float) -> tuple[float, float]:
 
 
 __all__ = ["COMPACT_RATIO", "COMPACT_SIDE_M", "SidePass", "box_gap", "compact_gap",
-           "is_compact", "motion_speeds", "side_pass", "speed_band"]
+           "is_compact", "line_progress", "motion_speeds", "side_pass", "speed_band"]
 
 
 def densify(path: NDArray[np.float64], spacing: float = DENSE_SPACING_M) -> NDArray[np.float64]:
@@ -141,3 +141,23 @@ def face_shift(before: tuple[NDArray[np.float64], NDArray[np.float64]],
     centre of what is still visible moves far less."""
     d_lo, d_hi = after[0] - before[0], after[1] - before[1]
     return np.where(np.abs(d_hi) > np.abs(d_lo), d_hi, d_lo)
+
+
+def line_progress(points: NDArray[np.float64], lo: NDArray[np.float64], hi: NDArray[np.float64],
+                  band: float) -> float:
+    """How far [m] the path ``points`` (N, 3) advanced along the long horizontal axis of the
+    box [lo, hi] (a line on the table) without leaving it: the largest span along the axis of a
+    run of consecutive points within ``band`` [m] of the axis."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    axis = int(np.argmax((hi - lo)[:2]))
+    centre = (lo + hi) / 2.0
+    along = points[:, axis] - centre[axis]
+    lateral = np.abs(points[:, 1 - axis] - centre[1 - axis])
+    best, start = 0.0, None
+    for k, on in enumerate(np.append(lateral <= band, False)):
+        if on and start is None:
+            start = k
+        elif not on and start is not None:
+            run = along[start:k]
+            best, start = max(best, float(np.max(run) - np.min(run))), None
+    return best

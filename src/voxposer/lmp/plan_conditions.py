@@ -12,6 +12,8 @@ those words, as the checklist asks:
 - "staying on the <side> of the <object>": ``passed_on('gripper', <object>, <side>)`` (the side
   kept while passing); an ``on(...)`` beside that object, or of that object on the table, is
   dropped — the hand only passes it, and the object does not move;
+- "push the <object> along the <line>": ``along(<object>, <line>)`` (it went along it, not
+  only onto it);
 - "push the <object> …": ``moved(<object>)`` (a push that never moved the block did nothing,
   whatever ``on`` says of where the block already was); an avoidance clause measured on the
   gripper is measured on the pushed object;
@@ -47,6 +49,7 @@ _BESIDE: Final = re.compile(r"^(?:then\s+)?(?:move|go|head)\s+to\s+the\s+(top|(?
                             r"(?:\s+side)?)\s+of\s+the\s+([a-z ]+?)\.?$")
 _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
                           r"(?:the\s+)?([a-z ]+)")
+_ALONG: Final = re.compile(r"\b(?:along|following|down|up)\s+the\s+([a-z]+\s+line)\b")
 _RELEASE: Final = re.compile(r"^(?:then\s+|and\s+)?(?:release|drop|let\s+go\s+of|put\s+down)\s+"
                              r"(?:the\s+)?([a-z ]+)")
 _REGION: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s+"
@@ -170,6 +173,10 @@ def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
     if mover != "gripper":
         if not any(c.helper == "moved" and c.args[:1] == (mover.lower(),) for c in conds):
             add("moved", (mover.lower(),), f"moved({mover!r})")
+        line = _ALONG.search(text)
+        if line and (name := _object(line.group(1), objects)) \
+                and not any(c.helper == "along" for c in conds):
+            add("along", (mover.lower(), name.lower()), f"along({mover!r}, {name!r})")
         for c in [c for c in conds if c.helper == "away" and is_end_effector(c.args[0])]:
             new = c.source.replace(repr(c.args[0]), repr(mover), 1)
             if new != c.source:
