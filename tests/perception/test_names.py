@@ -6,6 +6,7 @@ import pytest
 from voxposer.catalog import OBJECTS
 from voxposer.errors import UnknownObjectError
 from voxposer.perception import is_end_effector, match_name, normalize_name
+from voxposer.perception.names import leading_name
 
 NAMES = tuple(o.name for o in OBJECTS)
 
@@ -40,3 +41,12 @@ def test_a_name_that_matches_nothing_lists_the_scene() -> None:
 def test_end_effector_names() -> None:
     assert is_end_effector("The Gripper") and is_end_effector("end effector")
     assert not is_end_effector("blue block")
+
+
+def test_leading_name_is_the_longest_scene_name_the_words_begin_with() -> None:
+    names = ("table", "blue block", "top drawer", "top drawer handle")
+    assert leading_name("blue block to the left", names) == "blue block"
+    assert leading_name("the top drawer handle gently", names) == "top drawer handle"
+    assert leading_name("the topmost drawer", names) == "top drawer"  # through the synonyms
+    assert leading_name("block that is blue", names) is None
+    assert leading_name("bluest block", names) is None

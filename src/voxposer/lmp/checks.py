@@ -16,7 +16,7 @@ from voxposer.errors import EmptyAffordanceError, ResultError
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.registry import LMPSpec
-from voxposer.perception.names import is_end_effector
+from voxposer.perception.names import is_end_effector, leading_name
 from voxposer.valuemaps.maps import check_value_map
 
 #: Largest velocity scale accepted (the paper's "3x speed" is the largest in its task list).
@@ -145,9 +145,9 @@ def corrected_movable(subtask: str, movable: Any, objects: tuple[str, ...] = ()
             and pushed.group("obj").strip() not in {"it", "them", "this", "that", "one"}:
         obj = pushed.group("obj").strip()
         if objects:
-            obj = next((o for o in sorted(objects, key=len, reverse=True)
-                        if obj == o.lower() or obj.startswith(o.lower() + " ")), "")
-            if not obj:
+            named = leading_name(obj, objects)
+            if named is None:
                 return None
+            obj = named
         return obj, f"the sub-task pushes the {obj}; with the gripper as the movable it would not move"
     return None

@@ -36,7 +36,7 @@ import re
 from typing import Final
 
 from voxposer.lmp.plan_review import plain_steps
-from voxposer.perception.names import is_end_effector
+from voxposer.perception.names import is_end_effector, leading_name
 
 #: the sub-task appended after a final grasp (the planner prompt's own wording).
 LIFT_SUBTASK: Final = "back to default pose"
@@ -125,11 +125,10 @@ def _clause(instruction: str, objects: tuple[str, ...] | list[str]
     carries it with, how a sub-task carrying it reads, how a sub-task that went to the object
     instead of keeping the constraint reads); None when it has none about a scene object."""
     text = " ".join(instruction.lower().split())
-    names = sorted((o.lower() for o in objects), key=len, reverse=True)
 
     def named(said: str) -> str | None:
-        obj = next((o for o in names if said == o or said.startswith(o + " ")), None)
-        return None if obj in (None, "table") else obj
+        obj = leading_name(said, objects)
+        return None if obj is None or obj.lower() == "table" else obj.lower()
 
     if (stay := _STAY_ON.search(text)) and (obj := named(stay.group(2))):
         side = stay.group(1)

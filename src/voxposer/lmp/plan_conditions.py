@@ -39,7 +39,7 @@ from typing import Final, NamedTuple
 from voxposer.lmp.checklist import AVOID_WORDS
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import same_direction, speed_factor, speed_span
-from voxposer.perception.names import is_end_effector, normalize_name
+from voxposer.perception.names import is_end_effector, leading_name
 
 _SIDE: Final = r"(top|bottom|(?:front|back|left|right|near|far)(?:\s+side)?)"
 _STAY_ON: Final = re.compile(r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|"
@@ -89,12 +89,7 @@ def _stated(line: str) -> list[Stated]:
 
 def _object(words: str, objects: tuple[str, ...]) -> str | None:
     """The scene object ``words`` begin with (the longest name), None when none does."""
-    text = normalize_name(words)
-    for name in sorted(objects, key=len, reverse=True):
-        norm = normalize_name(name)
-        if text == norm or text.startswith(norm + " "):
-            return name
-    return None
+    return leading_name(words, objects)
 
 
 def _mover(text: str, objects: tuple[str, ...]) -> str:

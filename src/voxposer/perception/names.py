@@ -58,6 +58,17 @@ def match_name(query: str, names: Sequence[str]) -> str:
     raise UnknownObjectError(str(query), names)
 
 
+def leading_name(words: str, names: Sequence[str]) -> str | None:
+    """The scene name ``words`` begin with (the longest such name, through the synonym
+    table: "blue block to the left" → "blue block"), None when they begin with none."""
+    text = normalize_name(words)
+    for name in sorted(names, key=len, reverse=True):
+        norm = normalize_name(name)
+        if text == norm or text.startswith(norm + " "):
+            return name
+    return None
+
+
 #: What the entity of interest is called when it is the robot's end effector, after
 #: :func:`normalize_name` (which already maps "end effector", "ee", "hand" to "gripper").
 END_EFFECTOR_NAMES: Final = frozenset({"gripper", "robot", "end-effector"})
