@@ -18,3 +18,6 @@ step() {  # name, then the bench arguments
 }
 step paraphrased --instructions paraphrased
 step default
+# added after the two steps above finished (same frozen commit): the multi-step suite, its
+# first 5 test seeds per entry (v3's default-multistep/ ran 10)
+step multistep --suite multistep --episodes 5
