@@ -29,26 +29,14 @@ from numpy.typing import NDArray
 from voxposer import catalog
 from voxposer.errors import ConfigError, VoxPoserError
 from voxposer.lmp.api import LMPAPI
-from voxposer.lmp.intent_conditions import Condition, IntentResult
-from voxposer.lmp.intent_paths import (
-    SIDE_SLACK_M,
-    box_gap,
-    compact_gap,
-    densify,
-    face_shift,
-    is_compact,
-    line_progress,
-    motion_speeds,
-    side_pass,
-    speed_band,
-)
+from voxposer.lmp.intent_conditions import Condition, IntentResult, call_text
+from voxposer.lmp.intent_motion import AWAY_CM, NEAR_CM, PathConditions
+from voxposer.lmp.intent_paths import box_gap, densify, face_shift
 from voxposer.lmp.sides import parse_side
 from voxposer.perception.names import is_end_effector, match_name
 
 #: default displacement [cm] that counts as "moved".
 MOVED_CM: Final = 2.0
-#: default distance [cm] within which something is "near" another.
-NEAR_CM: Final = 5.0
 #: how far [cm] outside an object's footprint something still counts as "above" it.
 ABOVE_MARGIN_CM: Final = 3.0
 #: how close [cm] an object's centre must be to the end effector to be "held".
@@ -57,20 +45,12 @@ HOLD_CM: Final = 8.0
 #: at most this far [cm] from it.
 BESIDE_LATERAL_CM: Final = 4.0
 BESIDE_MAX_CM: Final = 15.0
-#: default distance [cm] between the faces of two things that "stayed away" from each other
-#: (the benchmark's "staying away from [obstacle]" asks 4 cm between the blocks' faces).
-AWAY_CM: Final = 4.0
-#: how much [cm] a measured distance may fall short of the one asked and still count: half a
-#: voxel of the perceived boxes (the benchmark's "at least [dist]cm" allows the same 0.5 cm).
-DISTANCE_SLACK_CM: Final = 0.5
 #: the names the planner's code sees.
-#: "along a line": the pushed object's centre within this [cm] of the line's axis.
-LINE_BAND_CM: Final = 4.0
 HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "passed_on", "speed",
                   "holding", "released", "along")
 
 
-class IntentChecks:
+class IntentChecks(PathConditions):
     """The post-condition helpers of the planner's code, bound to a scene's API.
 
     The runtime calls :meth:`begin_subtask` before every ``composer`` call (positions are
@@ -160,7 +140,7 @@ class IntentChecks:
             try:
                 return fn(*args, **kwargs)
             except Exception as exc:  # untrusted arguments: report, never break the plan
-                text = _call(name, *args, **kwargs)
+                text = call_text(name, *args, **kwargs)
                 measured = f"could not evaluate: {type(exc).__name__}: {exc}"
                 if name == "expect":
                     self.results.append(IntentResult(self._subtask, text, False, measured, True))
@@ -189,7 +169,7 @@ class IntentChecks:
         ``toward``, a side phrase such as "left" or "back right", when given); a drawer or a
         handle by its box's faces (:func:`~voxposer.lmp.intent_paths.face_shift`)."""
         name = self._name(obj)
-        text = _call("moved", obj, toward=toward, cm=cm)
+        text = call_text("moved", obj, toward=toward, cm=cm)
         if name not in self._before:
             return Condition(text, False, f"the {name} was not seen before the sub-task")
         if name in self._before_box:  # a drawer: by its faces (its body slides out of view)
@@ -214,7 +194,7 @@ class IntentChecks:
         """``obj`` (its centre, or the end effector) is within ``cm`` [cm] of ``target``'s box."""
         name, other = self._name(obj), self._name(target)
         dist = 100.0 * self._box_distance(self._centre(name)[None], other).min()
-        return Condition(_call("near", obj, target, cm=cm), dist <= cm,
+        return Condition(call_text("near", obj, target, cm=cm), dist <= cm,
                          f"{dist:.1f} cm from the {other}")
 
     def on(self, obj: str, target: str, where: str = "center") -> Condition:
@@ -224,7 +204,7 @@ class IntentChecks:
         15 cm of it)."""
         name, other = self._name(obj), self._name(target)
         centre = self._centre(name)
-        text = _call("on", obj, target, where)
+        text = call_text("on", obj, target, where)
         if other != "table":
             return self._beside(text, name, other, where, centre)
         grid = self.api.grid
@@ -261,93 +241,16 @@ class IntentChecks:
         over = bool(np.all(centre[:2] >= lo[:2] - margin) and np.all(centre[:2] <= hi[:2] + margin))
         height = 100.0 * (centre[2] - hi[2])
         high = height > 0 if cm is None else abs(height - cm) <= ABOVE_MARGIN_CM
-        return Condition(_call("above", obj, target, cm=cm), over and high,
+        return Condition(call_text("above", obj, target, cm=cm), over and high,
                          f"{height:.1f} cm above the {other}'s top, "
                          f"{'over' if over else 'not over'} it")
-
-    def away(self, obj: str, target: str, cm: float = AWAY_CM) -> Condition:
-        """During the last sub-task ``obj`` (its path when the executor moved it, else where
-        it is now) stayed at least ``cm`` [cm] from ``target``'s box — where it is now and
-        where it was when the sub-task began (an obstacle pushed aside): between their faces
-        for an object, from the end effector's point for the gripper (less
-        :data:`DISTANCE_SLACK_CM`: a point against perceived faces); between two compact
-        objects (blocks) horizontally by their footprints' inscribed circles
-        (:func:`~voxposer.lmp.intent_paths.compact_gap`, from perceived centres: no slack),
-        whatever either's turn."""
-        name, other = self._name(obj), self._name(target)
-        paths = self._paths.get(name, [])
-        points = np.concatenate(paths) if paths else self._centre(name)[None]
-        boxes = [self._aabb(other)]
-        if other in self._start_box:
-            boxes.append(self._start_box[other])
-        slack = DISTANCE_SLACK_CM
-        if name == "gripper":
-            gaps = np.min([box_gap(points, *box) for box in boxes], axis=0)
-        else:
-            lo, hi = self._aabb(name)
-            half = self._start_half.get(name, (hi - lo) / 2.0)
-            compact = (is_compact(lo, hi) or is_compact(-half, half)) \
-                and all(is_compact(*box) for box in boxes)
-            gaps = np.min([compact_gap(points, half, *box) if compact
-                           else box_gap(points, *box, half) for box in boxes], axis=0)
-            slack = 0.0 if compact else DISTANCE_SLACK_CM
-        dist = 100.0 * float(gaps.min())
-        return Condition(_call("away", obj, target, cm=cm), dist >= cm - slack,
-                         f"closest {dist:.1f} cm to the {other} over {len(points)} points")
-
-    def passed_on(self, obj: str, target: str, side: str) -> Condition:
-        """While ``obj``'s path in the last sub-task was level with ``target`` (passing it), it
-        stayed on its ``side`` ("left side", "top": over it) — beyond that face, ±1 cm."""
-        name, other = self._name(obj), self._name(target)
-        text = _call("passed_on", obj, target, side)
-        paths = self._paths.get(name, [])
-        points = np.concatenate(paths) if paths else self._centre(name)[None]
-        passed = side_pass(points, *self._aabb(other), parse_side(side, name=other))
-        if passed.level == 0:
-            return Condition(text, False, f"never passed the {other}")
-        held = bool(passed.margin >= -SIDE_SLACK_M)
-        word = "beyond" if passed.margin >= 0 else "across"
-        return Condition(text, held, f"passed the {other} {abs(passed.margin) * 100:.1f} cm "
-                                     f"{word} its {side} face at worst ({passed.level} points)")
-
-    def speed(self, obj: str, scale: float, near: str | None = None, cm: float = NEAR_CM,
-              inside: str | None = None, side: str | None = None) -> Condition:
-        """In the last sub-task the end effector (``obj``: "gripper", or what it carries) moved
-        at about ``scale`` times its default speed (the median, in the band of
-        :func:`~voxposer.lmp.intent_paths.speed_band`: ±1.6x, a speed-up at least partly), counting
-        only where it was within ``cm`` [cm] of ``near``'s box, or over the ``inside`` part
-        of the table ("back side"; ``side`` is another name for it), when given."""
-        if side is not None and inside is not None and side != inside:
-            raise ConfigError(f"speed(): inside={inside!r} and side={side!r} name two table "
-                              "parts; give one")
-        inside = inside if inside is not None else side
-        text = _call("speed", obj, scale, near=near, cm=cm if near else None, inside=inside)
-        if self.ee_speed is None:
-            raise ConfigError("the robot's default speed is unknown here")
-        parts = [motion_speeds(path, times) for path, times in self._timed]
-        speeds = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0)
-        where = np.concatenate([p[1] for p in parts]) if parts else np.zeros((0, 3))
-        zone = ""
-        if near is not None:
-            other = self._name(near)
-            close = box_gap(where, *self._aabb(other)) <= cm / 100.0
-            speeds, zone = speeds[close], f" within {cm:g} cm of the {other}"
-        if inside is not None:
-            over = self._over_table(where, inside)
-            speeds, zone = speeds[over], zone + f" over the {inside}"
-        if len(speeds) < 5:
-            return Condition(text, False, f"hardly moved{zone} ({len(speeds)} samples)")
-        ratio = float(np.median(speeds)) / self.ee_speed
-        lo, hi = speed_band(float(scale))
-        return Condition(text, lo <= ratio <= hi,
-                         f"median speed {ratio:.2f}x default{zone} (band [{lo:.2f}, {hi:.4g}])")
 
     def holding(self, obj: str) -> Condition:
         """The gripper is closed with ``obj``'s centre within 8 cm of the end effector."""
         name = self._name(obj)
         closed = float(self.api.scene.gripper_state()) > 0.5
         dist = 100.0 * float(np.linalg.norm(self._centre(name) - self._ee()))
-        return Condition(_call("holding", obj), closed and dist <= HOLD_CM,
+        return Condition(call_text("holding", obj), closed and dist <= HOLD_CM,
                          f"gripper {'closed' if closed else 'open'}, the {name} {dist:.1f} cm "
                          "from it")
 
@@ -357,22 +260,9 @@ class IntentChecks:
         name = self._name(obj)
         closed = float(self.api.scene.gripper_state()) > 0.5
         dist = 100.0 * float(np.linalg.norm(self._centre(name) - self._ee()))
-        return Condition(_call("released", obj), not (closed and dist <= HOLD_CM),
+        return Condition(call_text("released", obj), not (closed and dist <= HOLD_CM),
                          f"gripper {'closed' if closed else 'open'}, the {name} {dist:.1f} cm "
                          "from it")
-
-    def along(self, obj: str, line: str, cm: float | None = None) -> Condition:
-        """During the last sub-task ``obj``'s path went at least ``cm`` [cm] (default: half
-        the line's length) along ``line``'s long axis without leaving it (its centre within
-        :data:`LINE_BAND_CM` of the axis): a push *along* the line, not onto it."""
-        name, other = self._name(obj), self._name(line)
-        paths = self._paths.get(name, [])
-        points = np.concatenate(paths) if paths else self._centre(name)[None]
-        lo, hi = self._aabb(other)
-        need = 50.0 * float(np.max((hi - lo)[:2])) if cm is None else float(cm)
-        went = 100.0 * line_progress(points, lo, hi, LINE_BAND_CM / 100.0)
-        return Condition(_call("along", obj, line, cm=cm), went >= need,
-                         f"went {went:.1f} cm along the {other} (needs {need:.1f})")
 
     # --------------------------------------------------------------- perception
     def _name(self, obj: Any) -> str:
@@ -394,27 +284,9 @@ class IntentChecks:
         lo, hi = self.api.detect(name).aabb_world
         return np.asarray(lo, float), np.asarray(hi, float)
 
-    def _over_table(self, points: NDArray[np.float64], where: str) -> NDArray[np.bool_]:
-        """Which points (N, 3) [m] lie over the ``where`` part of the table, shape (N,)."""
-        grid = self.api.grid
-        mask = self.api.region_mask("table", where)
-        inside = np.asarray(grid.contains(points), dtype=bool).reshape(-1)
-        out = np.zeros(len(points), dtype=bool)
-        if np.any(inside):
-            i, j, k = np.asarray(grid.world_to_voxel(points[inside])).T
-            out[inside] = mask[i, j, k]
-        return out
-
     def _box_distance(self, points: NDArray[np.float64], name: str) -> NDArray[np.float64]:
         """Distance [m] of each point (N, 3) to ``name``'s box (0 inside), shape (N,)."""
         return box_gap(points, *self._aabb(name))
-
-def _call(fn: str, *args: Any, **kwargs: Any) -> str:
-    """How a helper call reads in a report: ``moved('pink block', toward='right', cm=2)``."""
-    parts = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items() if v is not None]
-    return f"{fn}({', '.join(parts)})"
-
-
 
 
 def _sliding(name: str) -> bool:

@@ -44,4 +44,10 @@ class IntentResult:
         return asdict(self)
 
 
-__all__ = ["Condition", "IntentResult"]
+def call_text(fn: str, *args: Any, **kwargs: Any) -> str:
+    """How a helper call reads in a report: ``moved('pink block', toward='right', cm=2)``."""
+    parts = [repr(a) for a in args] + [f"{k}={v!r}" for k, v in kwargs.items() if v is not None]
+    return f"{fn}({', '.join(parts)})"
+
+
+__all__ = ["Condition", "IntentResult", "call_text"]
