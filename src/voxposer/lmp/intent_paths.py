@@ -12,6 +12,8 @@ from typing import Final, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from voxposer.geometry.line_progress import on_line_progress
+
 #: how far [m] a point may lie across a side's face and still count as on that side.
 SIDE_SLACK_M: Final = 0.01
 #: how far [m] beyond a box's extent a point still counts as level with it (passing it).
@@ -153,11 +155,4 @@ def line_progress(points: NDArray[np.float64], lo: NDArray[np.float64], hi: NDAr
     centre = (lo + hi) / 2.0
     along = points[:, axis] - centre[axis]
     lateral = np.abs(points[:, 1 - axis] - centre[1 - axis])
-    best, start = 0.0, None
-    for k, on in enumerate(np.append(lateral <= band, False)):
-        if on and start is None:
-            start = k
-        elif not on and start is not None:
-            run = along[start:k]
-            best, start = max(best, float(np.max(run) - np.min(run))), None
-    return best
+    return on_line_progress(along, lateral, band)

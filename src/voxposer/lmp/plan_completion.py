@@ -49,11 +49,12 @@ _DROP: Final = re.compile(
     r"(?P<place>[\w ]+?)\s*\.?$", re.I)
 #: how high above the place the object is carried before the hand opens [cm] (the examples').
 CARRY_CM: Final = 9
-#: "staying on the <side> of the <object>" in an instruction or a sub-task: (side, object words).
-_STAY_ON: Final = re.compile(
+#: "staying on the <side> of the <object>" in an instruction or a sub-task: (side, the words
+#: after "of the", which begin with the object's name).
+STAY_ON: Final = re.compile(
     r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|passing|going|go)\s+"
-    r"(?:on|over|at|along|to|by)\s+the\s+(top|bottom|(?:front|back|left|right)(?:\s+side)?)"
-    r"\s+of\s+the\s+([a-z]+(?:\s+[a-z]+)?)")
+    r"(?:on|over|at|along|to|by)\s+the\s+(top|bottom|(?:front|back|left|right|near|far)"
+    r"(?:\s+side)?)\s+of\s+the\s+([a-z ]+)")
 #: "keep 11cm clear of the blue block", "staying at least 5 cm away from the …" in an
 #: instruction: (cm, object words).
 _KEEP_AWAY: Final = re.compile(
@@ -130,9 +131,9 @@ def _clause(instruction: str, objects: tuple[str, ...] | list[str]
         obj = leading_name(said, objects)
         return None if obj is None or obj.lower() == "table" else obj.lower()
 
-    if (stay := _STAY_ON.search(text)) and (obj := named(stay.group(2))):
+    if (stay := STAY_ON.search(text)) and (obj := named(stay.group(2))):
         side = stay.group(1)
-        return (obj, f"while staying on the {side} of the {obj}", _STAY_ON,
+        return (obj, f"while staying on the {side} of the {obj}", STAY_ON,
                 re.compile(rf"^(?:move|go)\s+to\s+the\s+{side}(?:\s+side)?\s+of\s+the\s+{obj}$"))
     if (away := _KEEP_AWAY.search(text)) and (obj := named(away.group("obj"))):
         cm = away.group("cm")
@@ -184,5 +185,6 @@ def drop_final_reset(code: str) -> str | None:
     return "\n".join([*lines, *steps[-1][2]])
 
 
-__all__ = ["CARRY_CM", "LIFT_SUBTASK", "carry_stay_on", "drop_final_reset", "drop_subtasks",
+__all__ = ["CARRY_CM", "LIFT_SUBTASK", "STAY_ON", "carry_stay_on", "drop_final_reset",
+           "drop_subtasks",
            "grasp_before_drop", "lift_after_grasp"]

@@ -37,14 +37,11 @@ import re
 from typing import Final, NamedTuple
 
 from voxposer.lmp.checklist import AVOID_WORDS
+from voxposer.lmp.plan_completion import STAY_ON
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import same_direction, speed_factor, speed_span
 from voxposer.perception.names import is_end_effector, leading_name
 
-_SIDE: Final = r"(top|bottom|(?:front|back|left|right|near|far)(?:\s+side)?)"
-_STAY_ON: Final = re.compile(r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|"
-                             r"passing|going|go)\s+(?:on|over|at|along|to|by)\s+the\s+" + _SIDE
-                             + r"\s+of\s+the\s+([a-z ]+)")
 _BESIDE: Final = re.compile(r"^(?:then\s+)?(?:move|go|head)\s+to\s+the\s+(top|(?:front|back|left|right)"
                             r"(?:\s+side)?)\s+of\s+the\s+([a-z ]+?)\.?$")
 _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
@@ -148,7 +145,7 @@ def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
         conds.append(Stated(helper, args, frozenset(), source))
         notes.append(f"+ {source}")
 
-    if (stay := _STAY_ON.search(text)) and (obj := _object(stay.group(2), objects)) \
+    if (stay := STAY_ON.search(text)) and (obj := _object(stay.group(2), objects)) \
             and obj != "table":
         low = obj.lower()
         dropped = [c for c in conds if c.helper == "on" and low in c.args[:2]]
@@ -184,7 +181,7 @@ def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
     conds, speed_notes = _speed(text, conds, objects)
     notes += speed_notes
     avoids = set(re.findall(r"[a-z]+", text)) & AVOID_WORDS or _AT_LEAST.search(text)
-    if avoids and not _STAY_ON.search(text) \
+    if avoids and not STAY_ON.search(text) \
             and not any(c.helper == "away" for c in conds):
         for m in _AWAY.finditer(text):
             if (obj := _object(m.group(1), objects)) and obj.lower() != mover.lower():

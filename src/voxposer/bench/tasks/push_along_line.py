@@ -29,6 +29,7 @@ from voxposer.bench.task import BenchTask, Verdict
 from voxposer.bench.tasks._common import block_layout, segment_clear
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.geometry.line_progress import on_line_progress
 
 #: Line length [m] (``WorldConfig.line_length``).
 LINE_LENGTH = 0.20
@@ -43,19 +44,6 @@ OFFSET_M = (0.07, 0.085)
 
 def _axis(yaw: float) -> np.ndarray:
     return np.array([math.cos(yaw), math.sin(yaw)])
-
-
-def on_line_progress(along: np.ndarray, lateral: np.ndarray, band: float) -> float:
-    """Distance [m] along the line covered without leaving it: the largest span of ``along``
-    over a run of consecutive samples within ``band`` of its axis (shapes (T,))."""
-    best, start = 0.0, None
-    for k, on in enumerate(np.append(lateral <= band, False)):
-        if on and start is None:
-            start = k
-        elif not on and start is not None:
-            run = along[start:k]
-            best, start = max(best, float(np.max(run) - np.min(run))), None
-    return best
 
 
 class PushAlongLine(BenchTask):
