@@ -76,6 +76,23 @@ def test_away_uses_the_executed_path_not_only_where_it_ended(checks: IntentCheck
     assert not close.held and "closest 1.5 cm" in close.measured
 
 
+def test_far_is_where_the_hand_ends_not_the_path_it_left_by(checks: IntentChecks) -> None:
+    h, scene = helpers(checks), checks.api.scene
+    green = scene.detect("green block").position
+    checks.begin_subtask("move away from the green block")
+    start = green + np.array([0.0, 0.04, 0.0])  # 1.5 cm from its face, where the push ended
+    end = green + np.array([0.0, 0.0, 0.175])  # 15 cm over its top face
+    scene.set_ee(end)
+    path = np.stack([start, end])
+    checks.add_execution(SimpleNamespace(trace=list(path), entity="gripper", entity_path=path))
+    left = h["far"]("gripper", "green block")
+    assert left.held and "ends 15.0 cm" in left.measured
+    assert not h["away"]("gripper", "green block", cm=10).held  # the path began beside it
+    scene.set_ee(green + np.array([0.0, 0.0, 0.10]))  # 7.5 cm over it
+    assert not h["far"]("gripper", "green block").held
+    assert h["far"]("gripper", "green block", cm=7).held
+
+
 def test_holding_needs_a_closed_gripper_at_the_object(checks: IntentChecks) -> None:
     h, scene = helpers(checks), checks.api.scene
     scene.set_ee(scene.detect("yellow block").position)

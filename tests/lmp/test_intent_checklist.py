@@ -108,3 +108,15 @@ def test_staying_on_a_part_of_the_table_asks_for_no_side_passed() -> None:
     plan = ("composer('push the yellow block to the right side of the table while staying on "
             "the right side of the table')\nexpect(on('yellow block', 'table', 'right side'))")
     assert intent_gaps(plan) == []
+
+
+def test_moving_away_asks_for_no_distance_kept_on_the_way() -> None:
+    """"move away from the X" starts beside X: "away" is where the hand goes (``far``), not a
+    distance its path keeps, so no away(...) is asked for."""
+    plan = ("composer('push the pink block to the back side of the table')\n"
+            "expect(moved('pink block'))\ncomposer('move away from the pink block')\n"
+            "expect(far('gripper', 'pink block'))")
+    assert intent_gaps(plan) == []
+    kept = plan.replace("move away from the pink block",
+                        "move to the left side of the table while staying away from the pink block")
+    assert len(intent_gaps(kept)) == 1  # a path clause: its distance is asked for

@@ -140,3 +140,20 @@ def test_a_push_along_a_line_must_go_along_it() -> None:
     ends = derive_conditions("composer('push the blue block to the near end of the yellow line')",
                              OBJECTS)
     assert ends is not None and "along(" not in ends[0]  # a push to one end is not along it
+
+
+def test_moving_away_is_measured_where_the_hand_ends() -> None:
+    plan = ("composer('push the brown block to the right side of the table')\n"
+            "expect(on('brown block', 'table', 'right side'))\n"
+            "composer('move away from the brown block')\nexpect(away('brown block', cm=5))")
+    out = derived(plan).splitlines()
+    assert out[3] == "expect(far('gripper', 'brown block'))"  # no away(): it began beside it
+
+
+@pytest.mark.parametrize(("subtask", "expected"), [
+    ("hover the pink block to a point 10cm above it", "above('gripper', 'pink block', cm=10)"),
+    ("first hover 12cm over the blue block", "above('gripper', 'blue block', cm=12)"),
+    ("move to a point 9cm above the brown block", "above('gripper', 'brown block', cm=9)"),
+])
+def test_a_hover_must_end_over_the_object_at_its_height(subtask: str, expected: str) -> None:
+    assert derived(f"composer({subtask!r})").splitlines()[1] == f"expect({expected})"

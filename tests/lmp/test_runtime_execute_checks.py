@@ -113,6 +113,9 @@ def test_a_hand_motion_with_the_object_as_movable_is_corrected_before_it_execute
     ("close the top drawer by pushing", "gripper", None),
     ("push the top drawer closed", "gripper", None),  # a fixture: pushed through the hand
     ("push it to the left", "gripper", None),  # no object named
+    ("hover the pink block to a point 10cm above it", "pink block", "gripper"),
+    ("move away from the pink block", "pink block", "gripper"),
+    ("move away from the pink block", "gripper", None),
 ])
 def test_the_movable_is_what_the_sub_task_moves(subtask: str, movable: str,
                                                 corrected: str | None) -> None:

@@ -38,6 +38,12 @@ AVOID_WORDS: Final = frozenset({
     "avoid", "avoiding", "away", "clear", "distance", "apart", "bump", "bumping", "hit",
     "hitting", "touch", "touching", "collide", "colliding", "around", "steer",
 })
+#: a sub-task whose motion is leaving an object ("move away from the pink block"): there
+#: "away" says where the hand goes, not a distance the path keeps.
+MOVE_AWAY: Final = re.compile(
+    r"^(?:then\s+|and\s+|finally\s+)?(?:move|go|get|back|step|pull|retreat)\s+(?:the\s+"
+    r"(?:gripper|hand|end\s+effector)\s+)?(?:back\s+)?away\s+from\s+(?:the\s+)?"
+    r"(?P<obj>[a-z ]+?)\.?$")
 _NUMBER: Final = re.compile(r"(?<![\w.])(\d+(?:\.\d+)?)")
 #: how a sub-task that only constrains begins ("keep at least…", "move at faster speed…").
 _CONSTRAINT_ONLY: Final = re.compile(

@@ -14,6 +14,7 @@ import numpy as np
 
 from voxposer.errors import EmptyAffordanceError, ResultError
 from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.lmp.checklist import MOVE_AWAY
 from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.registry import LMPSpec
 from voxposer.perception.names import is_end_effector, leading_name
@@ -105,8 +106,9 @@ def check_execute_target(movable: Any, affordance: Any) -> None:
 
 
 #: a sub-task that moves the hand to a place ("move to the front side of the pink block").
-_HAND_MOTION = re.compile(r"^(?:then\s+|and\s+)?(?:move|go|head|travel|get|come|hover)\s+"
-                          r"(?:over\s+|back\s+)?(?:to|towards?|above|over|near|next\s+to|into)\b")
+_HAND_MOTION = re.compile(r"^(?:then\s+|and\s+|first\s+)?(?:(?:move|go|head|travel|get|come)\s+"
+                          r"(?:over\s+|back\s+)?(?:to|towards?|above|over|near|next\s+to|into)|"
+                          r"hover)\b")
 #: a sub-task that pushes an object: the words naming it.
 _PUSHED = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove)\s+(?:the\s+)?"
                      r"(?P<obj>[a-z ]+?)\s*(?:\b(?:to|towards?|along|onto|into|in|so|while|"
@@ -136,7 +138,7 @@ def corrected_movable(subtask: str, movable: Any, objects: tuple[str, ...] = ()
     name = str(getattr(movable, "name", ""))
     if not name:
         return None
-    if _HAND_MOTION.match(text) and not is_end_effector(name):
+    if (_HAND_MOTION.match(text) or MOVE_AWAY.match(text)) and not is_end_effector(name):
         return "gripper", (f"the sub-task moves the gripper to a place; the {name} is where it "
                            "goes, not what moves")
     pushed = _PUSHED.match(text)

@@ -46,8 +46,8 @@ HOLD_CM: Final = 8.0
 BESIDE_LATERAL_CM: Final = 4.0
 BESIDE_MAX_CM: Final = 15.0
 #: the names the planner's code sees.
-HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "passed_on", "speed",
-                  "holding", "released", "along")
+HELPERS: Final = ("expect", "moved", "near", "on", "above", "away", "far", "passed_on",
+                  "speed", "holding", "released", "along")
 
 
 class IntentChecks(PathConditions):
@@ -159,7 +159,7 @@ class IntentChecks(PathConditions):
         for cond in conditions:
             if not isinstance(cond, Condition):
                 raise ConfigError(f"expect() takes conditions from moved/near/on/above/away/"
-                                  f"passed_on/speed/holding/released/along; got {type(cond).__name__} {cond!r}")
+                                  f"far/passed_on/speed/holding/released/along; got {type(cond).__name__} {cond!r}")
             self.results.append(IntentResult(self._subtask, cond.text, bool(cond.held),
                                              cond.measured, bool(cond.error)))
         return all(bool(c.held) for c in conditions)

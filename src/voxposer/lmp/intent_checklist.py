@@ -27,12 +27,12 @@ import ast
 import re
 from typing import Final, NamedTuple
 
-from voxposer.lmp.checklist import AVOID_WORDS, SPEED_WORDS, ClauseGap
+from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, SPEED_WORDS, ClauseGap
 from voxposer.perception.names import is_end_effector, normalize_name
 
 #: the post-condition helpers the checklist reads (:data:`voxposer.lmp.intent.HELPERS`).
-_CONDITIONS: Final = frozenset({"moved", "near", "on", "above", "away", "passed_on", "speed",
-                                "holding", "released", "along"})
+_CONDITIONS: Final = frozenset({"moved", "near", "on", "above", "away", "far", "passed_on",
+                                "speed", "holding", "released", "along"})
 _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
                           r"(?:the\s+)?([a-z]+)")
 _NEAR: Final = re.compile(r"\b(?:within|near|close to|closer than|next to|around)\b[^,;]*?"
@@ -121,7 +121,7 @@ def subtask_gaps(subtask: str, conditions: list[Condition],
         elif _REGION.search(text) and not any(s.keywords & {"inside", "side"} for s in speeds):
             gaps.append("where its speed holds: speed('gripper', <scale>, inside='<table part>') "
                         "measures it only over that part of the table")
-    if words & AVOID_WORDS and not _STAY_ON.search(text):
+    if words & AVOID_WORDS and not _STAY_ON.search(text) and not MOVE_AWAY.match(text):
         aways = by.get("away", [])
         if not aways:
             gaps.append("the distance it keeps: away('<what moves>', '<object>', cm=<distance>) "

@@ -1,5 +1,5 @@
 """Post-conditions over the path a sub-task executed: ``away``, ``passed_on``, ``speed``,
-``along`` (a mixin of :class:`voxposer.lmp.intent.IntentChecks`, which records the paths).
+``along``, and the distance it ends at, ``far`` (a mixin of :class:`voxposer.lmp.intent.IntentChecks`, which records the paths).
 
 Distances are in centimetres as the instruction states them. The paths are the end effector's
 ``trace`` and the moved entity's ``entity_path`` of every ``execute`` call of the last sub-task
@@ -33,6 +33,9 @@ NEAR_CM: Final = 5.0
 #: default distance [cm] between the faces of two things that "stayed away" from each other
 #: (the benchmark's "staying away from [obstacle]" asks 4 cm between the blocks' faces).
 AWAY_CM: Final = 4.0
+#: default distance [cm] from an object's faces of a thing that "moved away from" it (the
+#: benchmark's multi-step "move away from it" asks 10 cm).
+FAR_CM: Final = 10.0
 #: how much [cm] a measured distance may fall short of the one asked and still count: half a
 #: voxel of the perceived boxes (the benchmark's "at least [dist]cm" allows the same 0.5 cm).
 DISTANCE_SLACK_CM: Final = 0.5
@@ -88,6 +91,15 @@ class PathConditions:
         dist = 100.0 * float(gaps.min())
         return Condition(call_text("away", obj, target, cm=cm), dist >= cm - slack,
                          f"closest {dist:.1f} cm to the {other} over {len(points)} points")
+
+    def far(self, obj: str, target: str, cm: float = FAR_CM) -> Condition:
+        """``obj`` (its centre, or the end effector) ends at least ``cm`` [cm] from
+        ``target``'s box ("move away from it": where the path starts does not count, unlike
+        :meth:`away`), less :data:`DISTANCE_SLACK_CM`."""
+        name, other = self._name(obj), self._name(target)
+        dist = 100.0 * float(box_gap(self._centre(name)[None], *self._aabb(other)).min())
+        return Condition(call_text("far", obj, target, cm=cm), dist >= cm - DISTANCE_SLACK_CM,
+                         f"the {name} ends {dist:.1f} cm from the {other}")
 
     def passed_on(self, obj: str, target: str, side: str) -> Condition:
         """While ``obj``'s path in the last sub-task was level with ``target`` (passing it), it
@@ -162,4 +174,4 @@ class PathConditions:
 
 
 
-__all__ = ["AWAY_CM", "DISTANCE_SLACK_CM", "LINE_BAND_CM", "NEAR_CM", "PathConditions"]
+__all__ = ["AWAY_CM", "DISTANCE_SLACK_CM", "FAR_CM", "LINE_BAND_CM", "NEAR_CM", "PathConditions"]

@@ -9,6 +9,9 @@ those words, as the checklist asks:
 
 - "move to the <side> of the <object>": ``on('gripper', <object>, <side>)`` (beside it on
   that side; ``above`` for its top), unless an ``on``/``above`` of that object is stated;
+  "hover / move to a point <n>cm above the <object>": ``above('gripper', <object>, cm=<n>)``;
+- "move away from the <object>": ``far('gripper', <object>)`` (where it ends); an ``away``
+  naming that object is dropped — the path starts beside it;
 - "staying on the <side> of the <object>": ``passed_on('gripper', <object>, <side>)`` (the side
   kept while passing); an ``on(...)`` beside that object, or of that object on the table, is
   dropped — the hand only passes it, and the object does not move;
@@ -34,9 +37,10 @@ from __future__ import annotations
 
 import ast
 import re
+from collections.abc import Callable
 from typing import Final, NamedTuple
 
-from voxposer.lmp.checklist import AVOID_WORDS
+from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY
 from voxposer.lmp.plan_completion import STAY_ON
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import same_direction, speed_factor, speed_span
@@ -44,6 +48,10 @@ from voxposer.perception.names import is_end_effector, leading_name
 
 _BESIDE: Final = re.compile(r"^(?:then\s+)?(?:move|go|head)\s+to\s+the\s+(top|(?:front|back|left|right)"
                             r"(?:\s+side)?)\s+of\s+the\s+([a-z ]+?)\.?$")
+_ABOVE: Final = re.compile(r"^(?:then\s+|first\s+)?(?:move|go|head|hover)\b.*?\b(\d+(?:\.\d+)?)\s*"
+                           r"(?:cm|centimet(?:er|re)s?)\s+(?:above|over)\s+(?:the\s+)?([a-z ]+)")
+_HOVER_OBJ: Final = re.compile(r"^(?:then\s+|first\s+)?hover\s+(?:over\s+|above\s+)?(?:the\s+)?"
+                               r"([a-z ]+)")
 _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
                           r"(?:the\s+)?([a-z ]+)")
 _ALONG: Final = re.compile(r"\b(?:along|following|down|up)\s+the\s+([a-z]+\s+line)\b")
@@ -134,6 +142,29 @@ def _speed(text: str, conds: list[Stated], objects: tuple[str, ...]
     return keep, notes
 
 
+def _hand_place(text: str, conds: list[Stated], objects: tuple[str, ...],
+                add: Callable[[str, tuple[str, ...], str], None], notes: list[str]) -> None:
+    """Where a hand motion ends, from ``text``: ``above`` for "<n>cm above the <object>"
+    ("it": the object the sub-task names first), ``far`` for "move away from the <object>"
+    (``conds`` changed in place)."""
+    if (high := _ABOVE.match(text)):
+        named = _object(high.group(2), objects)
+        if named is None and high.group(2).startswith("it") and (hover := _HOVER_OBJ.match(text)):
+            named = _object(hover.group(1), objects)
+        if named and named != "table" and not any(
+                c.helper in ("on", "above") and c.args[1:2] == (named.lower(),) for c in conds):
+            add("above", ("gripper", named.lower()),
+                f"above('gripper', {named!r}, cm={float(high.group(1)):g})")
+    if (leave := MOVE_AWAY.match(text)) and (named := _object(leave.group("obj"), objects)):
+        low = named.lower()
+        dropped = [c for c in conds if c.helper == "away" and low in c.args]
+        for c in dropped:
+            conds.remove(c)
+            notes.append(f"- {c.source}")
+        if not any(c.helper == "far" for c in conds):
+            add("far", ("gripper", low), f"far('gripper', {named!r})")
+
+
 def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
                    ) -> tuple[list[Stated], list[str]]:
     """``conds`` completed from ``subtask``'s words (module docs), with the changes in words."""
@@ -162,6 +193,7 @@ def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
         else:
             side = side if side.endswith("side") else f"{side} side"
             add("on", ("gripper", obj.lower()), f"on('gripper', {obj!r}, {side!r})")
+    _hand_place(text, conds, objects, add, notes)
     if mover != "gripper":
         if not any(c.helper == "moved" and c.args[:1] == (mover.lower(),) for c in conds):
             add("moved", (mover.lower(),), f"moved({mover!r})")
@@ -181,7 +213,7 @@ def derive_subtask(subtask: str, conds: list[Stated], objects: tuple[str, ...]
     conds, speed_notes = _speed(text, conds, objects)
     notes += speed_notes
     avoids = set(re.findall(r"[a-z]+", text)) & AVOID_WORDS or _AT_LEAST.search(text)
-    if avoids and not STAY_ON.search(text) \
+    if avoids and not STAY_ON.search(text) and not MOVE_AWAY.match(text) \
             and not any(c.helper == "away" for c in conds):
         for m in _AWAY.finditer(text):
             if (obj := _object(m.group(1), objects)) and obj.lower() != mover.lower():
