@@ -9,6 +9,7 @@ from voxposer.lmp.plan_completion import (
     carry_stay_on,
     drop_final_reset,
     grasp_before_drop,
+    hover_over,
     lift_after_grasp,
 )
 
@@ -175,3 +176,41 @@ def test_a_final_reset_after_a_hand_motion_is_dropped() -> None:
 ])
 def test_other_final_resets_stay(plan: str) -> None:
     assert drop_final_reset(plan) is None
+
+
+SCENE = ("table", "gripper", "blue block", "pink block", "brown block")
+
+
+@pytest.mark.parametrize(("instruction", "subtask", "said"), [
+    ("push the brown block to the back side of the table, then hover 10cm over it",
+     "hover the brown block to a point 10cm above it", "move to a point 10cm above the brown block"),
+    ("first hover 10cm over the blue block, then hover 12cm over the pink block",
+     "hover the pink block 10cm above the table", "move to a point 12cm above the pink block"),
+    ("hover over the blue block", "hover the blue block", "move to a point above the blue block"),
+])
+def test_a_sub_task_that_makes_the_object_hover_moves_the_hand(instruction: str, subtask: str,
+                                                               said: str) -> None:
+    plan = f"composer({subtask!r})\ncomposer('move to the right side of the table')"
+    out = hover_over(instruction, plan, SCENE)
+    assert out == f"composer({said!r})\ncomposer('move to the right side of the table')"
+
+
+@pytest.mark.parametrize(("instruction", "plan"), [
+    # the hand hovers already
+    ("hover 10cm over the blue block", "composer('hover 10cm over the blue block')"),
+    # the instruction hovers over nothing: "hover the blue block" may be a held block's motion
+    ("lift the blue block and hover it over the table", "composer('hover the blue block')"),
+])
+def test_hovers_of_the_hand_or_not_asked_are_left_alone(instruction: str, plan: str) -> None:
+    assert hover_over(instruction, plan, SCENE) is None
+
+
+def test_the_runtime_moves_the_hand_for_a_hover_and_says_so() -> None:
+    instruction = "hover 10cm over the blue block"
+    entries = [{"lmp": "planner", "query": instruction, "responses": [
+        "composer('hover the blue block 10cm above the table')"]}]
+    rt = runtime(Backend(entries))
+    with pytest.raises(Exception, match="move to a point 10cm above the blue block"):
+        rt.run(instruction)  # the replay has no composer: the sub-task it was asked names it
+    hover = next(e for e in rt.transcript.events if e["event"] == "plan_completed")
+    assert hover["why"] == "a sub-task made the object hover"

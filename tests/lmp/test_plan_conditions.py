@@ -157,3 +157,19 @@ def test_moving_away_is_measured_where_the_hand_ends() -> None:
 ])
 def test_a_hover_must_end_over_the_object_at_its_height(subtask: str, expected: str) -> None:
     assert derived(f"composer({subtask!r})").splitlines()[1] == f"expect({expected})"
+
+
+def test_conditions_said_of_the_wrong_thing_or_sub_task_are_put_right() -> None:
+    plan = ("composer('hover 10cm over the pink block')\n"
+            "composer('push the pink block to the back side of the table')\n"
+            "composer('move to a point 10cm above the pink block')\n"
+            "expect(above('pink block', 'table', cm=10))\n"
+            "composer('move to the right side of the table')\n"
+            "expect(above('gripper', 'pink block', cm=10), on('pink block', 'table', 'right side'))")
+    out = derived(plan).splitlines()
+    assert out[1] == "expect(above('gripper', 'pink block', cm=10))"
+    assert out[3] == "expect(moved('pink block'))"
+    # the block does not hover: the hand does
+    assert out[5] == "expect(above('gripper', 'pink block', cm=10))"
+    # the hand goes to the right side; the hover's condition, stated late, is dropped
+    assert out[7] == "expect(on('gripper', 'table', 'right side'))"

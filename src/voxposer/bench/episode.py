@@ -20,13 +20,14 @@ import numpy as np
 from voxposer.bench.config import Tolerances
 from voxposer.bench.disturb import EpisodeDisturbance
 from voxposer.bench.methods import BACKENDLESS_LLMS, REFERENCE_BLIND, get_method
-from voxposer.bench.paraphrases import paraphrase
+from voxposer.bench.paraphrases import PhrasingSplit, paraphrase
 from voxposer.bench.program_replay import QUERY_CHARS
-from voxposer.bench.protocol import ADHOC
+from voxposer.bench.protocol import ADHOC, VAGUE_RELATIONAL
 from voxposer.bench.push_dynamics import HEURISTIC, CountingPush, push_dynamics
 from voxposer.bench.suites import TASKS_SUITE, suite_task
 from voxposer.bench.task import reset_episode
 from voxposer.bench.trace import TraceRecorder
+from voxposer.bench.vague_relational import render, scene_blocks
 from voxposer.bench.version import code_version
 from voxposer.bench.videos import finish_video, start_video
 from voxposer.errors import SimulationUnstableError, VoxPoserError
@@ -46,7 +47,9 @@ class EpisodeJob:
             control) or a backend kind of ``LLMConfig``.
         max_time_s: simulated time limit of each ``execute`` call [s].
         instructions: "seen", "unseen" (the task's few-shot examples held out of the prompts)
-            or "paraphrased" (a reworded instruction: :mod:`voxposer.bench.paraphrases`).
+            "paraphrased" (a reworded instruction: :mod:`voxposer.bench.paraphrases`) or
+            "vague-relational" (its slots said vaguely or by relation:
+            :mod:`voxposer.bench.vague_relational`).
         seed_set: the seed set ``seed`` comes from ("dev", "test", or "adhoc").
         disturbed: with the paper's disturbances (:mod:`voxposer.bench.disturb`).
         video: "none", "failures" or "all" (:mod:`voxposer.bench.videos`).
@@ -222,10 +225,14 @@ def run_episode(job: EpisodeJob, world: Any, backend: LLMBackend | None = None,
     try:
         task, method = suite_task(job.suite, job.task), get_method(job.method)
         setup = reset_episode(task, world, job.split, job.seed, tol)
-        if job.instructions == "paraphrased":  # test phrasings on test seeds only
+        phrasing: PhrasingSplit = "test" if job.seed_set == "test" else "dev"  # on test seeds
+        if job.instructions == "paraphrased":
             setup = replace(setup, instruction=paraphrase(
-                task.name, setup.attributes, "test" if job.seed_set == "test" else "dev",
-                job.seed))
+                task.name, setup.attributes, phrasing, job.seed))
+        elif job.instructions == VAGUE_RELATIONAL:
+            setup = replace(setup, instruction=render(
+                task.name, setup.attributes, *scene_blocks(world), phrasing,
+                job.seed).instruction)
         rec.instruction, rec.attributes = setup.instruction, dict(setup.attributes)
         t1 = time.perf_counter()
         if job.unet_checkpoint is not None:

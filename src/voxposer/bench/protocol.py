@@ -55,10 +55,13 @@ SEED_SETS: Final[dict[str, SeedSet]] = {s.name: s for s in (DEV_SEEDS, TEST_SEED
 ADHOC: Final = "adhoc"
 
 #: the values ``--instructions`` accepts.
-INSTRUCTION_SPLITS: Final[tuple[str, ...]] = ("seen", "unseen", "paraphrased")
+INSTRUCTION_SPLITS: Final[tuple[str, ...]] = ("seen", "unseen", "paraphrased", "vague-relational")
+#: the split whose instructions say quantities vaguely and objects by relation.
+VAGUE_RELATIONAL: Final = "vague-relational"
 #: instruction split → what reports append to a group's name.
 INSTRUCTION_LABELS: Final[dict[str, str]] = {
-    "seen": "", "unseen": ", unseen instructions", "paraphrased": ", paraphrased instructions"}
+    "seen": "", "unseen": ", unseen instructions", "paraphrased": ", paraphrased instructions",
+    VAGUE_RELATIONAL: ", vague and relational instructions"}
 
 
 def get_seed_set(name: str) -> SeedSet:

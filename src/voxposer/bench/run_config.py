@@ -16,7 +16,13 @@ from typing import Any, Literal
 from voxposer.bench.attributes import SPLITS, check_split
 from voxposer.bench.episode import EpisodeJob
 from voxposer.bench.methods import NO_LLM, REFERENCE_BLIND, REFERENCE_LLMS, get_method
-from voxposer.bench.protocol import ADHOC, DEV_SEEDS, check_instructions, get_seed_set
+from voxposer.bench.protocol import (
+    ADHOC,
+    DEV_SEEDS,
+    VAGUE_RELATIONAL,
+    check_instructions,
+    get_seed_set,
+)
 from voxposer.bench.push_dynamics import HEURISTIC, check_dynamics_options
 from voxposer.bench.suites import (
     MULTISTEP_SUITE,
@@ -157,8 +163,8 @@ class BenchConfig:
             raise ConfigError(f"instructions='unseen' holds few-shot examples out of the LLM's "
                               f"prompts; llm={self.llm!r} replays hand-written programs and "
                               "has no prompts. Use instructions='seen', or an LLM backend")
-        if self.instructions == "paraphrased" and self.llm in REFERENCE_LLMS:
-            raise ConfigError(f"instructions='paraphrased' rewords each task's instruction; "
+        if self.instructions in ("paraphrased", VAGUE_RELATIONAL) and self.llm in REFERENCE_LLMS:
+            raise ConfigError(f"instructions={self.instructions!r} rewords each task's instruction; "
                               f"llm={self.llm!r} replays programs written for the templates. "
                               "Use instructions='seen', or an LLM backend")
         if self.instructions == "unseen":

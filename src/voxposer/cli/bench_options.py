@@ -54,7 +54,8 @@ def add_bench_options(p: argparse.ArgumentParser) -> None:
                    help=f"instruction split, one of: {', '.join(INSTRUCTION_SPLITS)} (unseen: "
                    "each task's few-shot examples are held out of every prompt; paraphrased: "
                    "reworded instructions, dev phrasings on dev seeds and test phrasings on test "
-                   "seeds; LLMs only)")
+                   "seeds; vague-relational: those with objects named by relation and quantities "
+                   "said vaguely; LLMs only)")
     p.add_argument("--method", default="voxposer", help=f"one of: {', '.join(METHODS)}")
     p.add_argument("--unet-checkpoint", type=Path, default=None,
                    help=f"the U-Net of --method {UNET_MP} (model.pt of voxposer train-unet; "

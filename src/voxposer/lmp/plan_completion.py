@@ -27,7 +27,9 @@ distance to keep ("keep 11cm clear of the blue block") is carried the same way (
 staying at least 11cm from the blue block"), a sub-task that went to the object instead ("move
 to a point 11cm above the blue block") dropped. A plan that takes the hand somewhere and then
 sends it "back to default pose" undoes what was asked: :func:`drop_final_reset` drops that
-last sub-task.
+last sub-task. "Hover 10cm over the pink block" is sometimes planned with the block as what
+hovers ("hover the pink block to a point 10cm above it"), and the composer then moves the block
+or the hand to 10 cm above the table: :func:`hover_over` says it as the examples do.
 """
 
 from __future__ import annotations
@@ -168,6 +170,55 @@ def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[s
     return "\n".join(lines)
 
 
+#: "hover 10cm over the pink block" / "hover over it" in an instruction: (cm or None, words).
+_HOVER_SAID: Final = re.compile(r"\bhover\s+(?:about\s+)?(?:(\d+(?:\.\d+)?)\s*(?:cm|centimet(?:er|re)s?)"
+                                r"\s+)?(?:over|above)\s+(?:the\s+)?([a-z ]+|it)\b")
+#: a sub-task that makes the object hover ("hover the pink block to a point 10cm above it").
+_HOVER_THE: Final = re.compile(r"^(?:then\s+|first\s+)?hover\s+the\s+([a-z ]+)")
+
+
+def _hovers(instruction: str, objects: tuple[str, ...]) -> dict[str, str | None]:
+    """The objects the instruction hovers over → the height said [cm] (None: none); "it" is
+    the object named last before it."""
+    text = " ".join(instruction.lower().split())
+    out: dict[str, str | None] = {}
+    for m in _HOVER_SAID.finditer(text):
+        words = m.group(2)
+        if words.startswith("it"):
+            before = [(text.rfind(o.lower(), 0, m.start()), o) for o in objects
+                      if not is_end_effector(o) and o != "table"]
+            pos, obj = max(before, default=(-1, ""))
+            named = obj if pos >= 0 else None
+        else:
+            named = leading_name(words, objects)
+        if named and named != "table":
+            out.setdefault(named, m.group(1))
+    return out
+
+
+def hover_over(instruction: str, code: str, objects: tuple[str, ...] | list[str]) -> str | None:
+    """``code`` with a sub-task that makes the object hover ("hover the pink block to a point
+    10cm above it", "hover the blue block 10cm above the table") said as the hand's motion the
+    instruction asks ("move to a point 10cm above the pink block", the planner examples'
+    words), when the instruction hovers over that object; None when it needs nothing."""
+    hovered = _hovers(instruction, tuple(objects))
+    steps = plain_steps(code)
+    if not hovered or not steps:
+        return None
+    lines: list[str] = []
+    changed = False
+    for subtask, line, expects in steps:
+        text = " ".join(subtask.lower().split())
+        m = _HOVER_THE.match(text)
+        obj = leading_name(m.group(1), tuple(hovered)) if m else None
+        if obj is not None:
+            cm = hovered[obj]
+            where = f"a point {cm}cm above" if cm else "a point above"
+            line, changed = f"composer({f'move to {where} the {obj}'!r})", True
+        lines += [line, *expects]
+    return "\n".join(lines) if changed else None
+
+
 def drop_final_reset(code: str) -> str | None:
     """``code`` without a final ``composer('back to default pose')`` that follows a motion of
     the hand to a place ("move to the right side of the table"): it would undo the motion the
@@ -185,6 +236,14 @@ def drop_final_reset(code: str) -> str | None:
     return "\n".join([*lines, *steps[-1][2]])
 
 
-__all__ = ["CARRY_CM", "LIFT_SUBTASK", "STAY_ON", "carry_stay_on", "drop_final_reset",
-           "drop_subtasks",
-           "grasp_before_drop", "lift_after_grasp"]
+__all__ = [
+    "CARRY_CM",
+    "LIFT_SUBTASK",
+    "STAY_ON",
+    "carry_stay_on",
+    "drop_final_reset",
+    "drop_subtasks",
+    "grasp_before_drop",
+    "hover_over",
+    "lift_after_grasp",
+]

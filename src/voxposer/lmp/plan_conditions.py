@@ -12,6 +12,11 @@ those words, as the checklist asks:
   "hover / move to a point <n>cm above the <object>": ``above('gripper', <object>, cm=<n>)``;
 - "move away from the <object>": ``far('gripper', <object>)`` (where it ends); an ``away``
   naming that object is dropped — the path starts beside it;
+- "move to the <place> of the table": an ``on(<object>, 'table', <place>)`` is said of the
+  gripper (the hand goes there); "<n>cm above the <object>": an ``above(<object>, 'table')``
+  is dropped (the object does not hover);
+- a condition an earlier sub-task already states is dropped from a later one (a plan that
+  states every condition after its last sub-task);
 - "staying on the <side> of the <object>": ``passed_on('gripper', <object>, <side>)`` (the side
   kept while passing); an ``on(...)`` beside that object, or of that object on the table, is
   dropped — the hand only passes it, and the object does not move;
@@ -52,6 +57,8 @@ _ABOVE: Final = re.compile(r"^(?:then\s+|first\s+)?(?:move|go|head|hover)\b.*?\b
                            r"(?:cm|centimet(?:er|re)s?)\s+(?:above|over)\s+(?:the\s+)?([a-z ]+)")
 _HOVER_OBJ: Final = re.compile(r"^(?:then\s+|first\s+)?hover\s+(?:over\s+|above\s+)?(?:the\s+)?"
                                r"([a-z ]+)")
+_TO_PLACE: Final = re.compile(r"^(?:then\s+|and\s+)?(?:move|go|head)\s+to\s+the\s+((?:[a-z]+\s+){0,2}"
+                              r"(?:side|corner))\s+of\s+the\s+table\.?$")
 _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
                           r"(?:the\s+)?([a-z ]+)")
 _ALONG: Final = re.compile(r"\b(?:along|following|down|up)\s+the\s+([a-z]+\s+line)\b")
@@ -151,10 +158,20 @@ def _hand_place(text: str, conds: list[Stated], objects: tuple[str, ...],
         named = _object(high.group(2), objects)
         if named is None and high.group(2).startswith("it") and (hover := _HOVER_OBJ.match(text)):
             named = _object(hover.group(1), objects)
+        for c in [c for c in conds if named and c.helper == "above"
+                  and c.args[:2] == (named.lower(), "table")]:  # the object does not hover
+            conds.remove(c)
+            notes.append(f"- {c.source}")
         if named and named != "table" and not any(
                 c.helper in ("on", "above") and c.args[1:2] == (named.lower(),) for c in conds):
             add("above", ("gripper", named.lower()),
                 f"above('gripper', {named!r}, cm={float(high.group(1)):g})")
+    if (place := _TO_PLACE.match(text)):  # the hand goes there, not an object stated
+        for c in [c for c in conds if c.helper == "on" and c.args[1:3] == ("table", place.group(1))
+                  and c.args[0] and not is_end_effector(c.args[0])]:
+            new = f"on('gripper', 'table', {place.group(1)!r})"
+            conds[conds.index(c)] = c._replace(args=("gripper", *c.args[1:]), source=new)
+            notes.append(f"{c.source} → {new}")
     if (leave := MOVE_AWAY.match(text)) and (named := _object(leave.group("obj"), objects)):
         low = named.lower()
         dropped = [c for c in conds if c.helper == "away" and low in c.args]
@@ -235,9 +252,16 @@ def derive_conditions(code: str, objects: tuple[str, ...] | list[str]
     names = tuple(objects)
     lines: list[str] = []
     notes: list[str] = []
+    earlier: set[str] = set()
     for subtask, line, expects in steps:
         conds = [c for e in expects for c in _stated(e)]
         done, changed = derive_subtask(subtask, list(conds), names)
+        own = {c.source for c in derive_subtask(subtask, [], names)[0]}  # its words ask these
+        again = [c for c in done if c.source in earlier and c.source not in own]  # stated late
+        if again:
+            done = [c for c in done if c not in again]
+            changed = [*changed, *(f"- {c.source} (stated for an earlier sub-task)" for c in again)]
+        earlier |= {c.source for c in done}
         lines.append(line)
         if changed:
             notes += [f"{subtask!r}: {n}" for n in changed]

@@ -94,6 +94,9 @@ class LMPConfig:
             (:func:`~voxposer.lmp.plan_completion.carry_stay_on`).
         drop_final_reset: a final "back to default pose" after a motion of the hand to a
             place is dropped (:func:`~voxposer.lmp.plan_completion.drop_final_reset`).
+        hover_over: a sub-task that makes an object hover, when the instruction hovers over
+            it, becomes the hand's motion "move to a point <n>cm above the <object>"
+            (:func:`~voxposer.lmp.plan_completion.hover_over`).
         keep_instruction_speed: a sub-task whose speed asks the opposite of the
             instruction's ("faster" planned for "a quarter of the speed") gets the
             instruction's speed phrase (:func:`~voxposer.lmp.plan_conditions.keep_instruction_speed`).
@@ -121,6 +124,7 @@ class LMPConfig:
     grasp_before_drop: bool = True
     carry_stay_on: bool = True
     drop_final_reset: bool = True
+    hover_over: bool = True
     keep_instruction_speed: bool = True
     derived_conditions: bool = True
     resolve_exact_names: bool = True

@@ -48,6 +48,7 @@ from voxposer.lmp.plan_completion import (
     carry_stay_on,
     drop_final_reset,
     grasp_before_drop,
+    hover_over,
     lift_after_grasp,
 )
 from voxposer.lmp.plan_conditions import derive_conditions, keep_instruction_speed
@@ -238,6 +239,12 @@ class LMPRuntime:
             self.transcript.write("plan_completed", query=query, attempt=attempt,
                                   added="the instruction's staying-on clause",
                                   why="no sub-task carried it")
+            code = done
+        if self.config.hover_over and (done := hover_over(
+                query, code, tuple(self.scene.object_names))) is not None:
+            self.transcript.write("plan_completed", query=query, attempt=attempt,
+                                  added="the hover as the hand's motion",
+                                  why="a sub-task made the object hover")
             code = done
         if self.config.grasp_before_drop and (done := grasp_before_drop(code)) is not None:
             self.transcript.write("plan_completed", query=query, attempt=attempt,
