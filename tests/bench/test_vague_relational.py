@@ -40,14 +40,14 @@ def test_a_block_alone_in_a_relation_is_named_by_it() -> None:
     # the pink block: nearest both the base and the hand; third across the table from the
     # left, second from the right, 14 cm and more from its neighbours across it
     assert options("pink block", blocks, "dev") == {
-        "the block closest to you", "the third block from the left",
+        "the block nearest the robot", "the third block from the left",
         "the second block from the right"}
     # the green block: alone on the left, and the yellow block's neighbour (12 cm apart)
     assert options("green block", blocks, "test") == {
         "the block farthest to the left", "the block closest to the yellow block"}
     # the blue block: no block within 15 cm of it, so never "next to" one
     assert options("blue block", blocks, "dev") == {"the rightmost block",
-                                                    "the block farthest from you"}
+                                                    "the block farthest from the robot"}
 
 
 def test_no_relation_within_the_margin_names_nothing() -> None:
@@ -59,7 +59,7 @@ def test_no_relation_within_the_margin_names_nothing() -> None:
     # the hand sits over the pink block: closest to the base is not closest to the hand
     blocks = {"pink block": np.array([-0.35, 0.0]), "green block": np.array([0.0, 0.0])}
     hand_over_green = (BASE, np.array([0.0, 0.0, 0.3]))
-    assert "the block closest to you" not in options("pink block", blocks, "dev", hand_over_green)
+    assert "the block nearest the robot" not in options("pink block", blocks, "dev", hand_over_green)
 
 
 def test_vague_quantities_never_ask_less_than_the_check() -> None:

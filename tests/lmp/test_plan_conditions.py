@@ -173,3 +173,13 @@ def test_conditions_said_of_the_wrong_thing_or_sub_task_are_put_right() -> None:
     assert out[5] == "expect(above('gripper', 'pink block', cm=10))"
     # the hand goes to the right side; the hover's condition, stated late, is dropped
     assert out[7] == "expect(on('gripper', 'table', 'right side'))"
+
+
+def test_a_condition_stated_late_is_moved_to_the_sub_task_it_measures() -> None:
+    plan = ("composer('move to the front side of the pink block')\n"
+            "composer('move to a point 10cm above the blue block')\n"
+            "expect(near('gripper', 'pink block', cm=5), above('gripper', 'blue block', cm=10))")
+    out = derived(plan).splitlines()
+    assert out[1] == ("expect(near('gripper', 'pink block', cm=5), "
+                      "on('gripper', 'pink block', 'front side'))")
+    assert out[3] == "expect(above('gripper', 'blue block', cm=10))"

@@ -1,12 +1,13 @@
 """Vague quantities and references by relation: the ``--instructions vague-relational`` split.
 
-A person rarely says "the pink block" and "9cm": they say "the block closest to you" and "a
-hand's width". This split takes each task's paraphrases (:mod:`voxposer.bench.paraphrases`,
+A person rarely says "the pink block" and "9cm": they say "the block nearest the robot" and
+"a hand's width". This split takes each task's paraphrases (:mod:`voxposer.bench.paraphrases`,
 dev phrasings on dev seeds, test phrasings on test seeds) and says its slots as a person would,
 while the task's own check still judges the slot's value:
 
-- ``[obj]`` by its relation to the robot, across the table or to another block ("the block
-  closest to you", "the leftmost block", "the second block from the right", "the block next
+- ``[obj]`` by its relation to the robot (at the back of the table: "you" or "near" would be
+  read from the viewer's side), across the table or to another block ("the block nearest the
+  robot", "the leftmost block", "the second block from the right", "the block next
   to the green block" within :data:`NEXT_TO_MAX_M`), read from the episode's layout after
   reset: only a relation the named block alone satisfies, by at least
   :data:`RELATION_MARGIN_M` over every other block, is used (none: the colour name stays, and
@@ -74,9 +75,10 @@ REGIONS: Final[dict[str, Words]] = {
 #: sign is highest is meant. "The robot" is both its base and its hand at reset: a block is
 #: referred to so only when it is singled out from both.
 TO_ROBOT: Final[tuple[tuple[Words, float], ...]] = (
-    ({"dev": ("the block closest to you",), "test": ("the block nearest the robot",)}, -1.0),
-    ({"dev": ("the block farthest from you",), "test": ("the block furthest from the robot",)},
-     1.0),
+    ({"dev": ("the block nearest the robot",), "test": ("the block closest to the robot",)},
+     -1.0),
+    ({"dev": ("the block farthest from the robot",),
+      "test": ("the block furthest from the robot",)}, 1.0),
 )
 #: relations across the table, as (words, sign on y): "left" is −y.
 ACROSS: Final[tuple[tuple[Words, float], ...]] = (

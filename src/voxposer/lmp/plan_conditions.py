@@ -15,8 +15,9 @@ those words, as the checklist asks:
 - "move to the <place> of the table": an ``on(<object>, 'table', <place>)`` is said of the
   gripper (the hand goes there); "<n>cm above the <object>": an ``above(<object>, 'table')``
   is dropped (the object does not hover);
-- a condition an earlier sub-task already states is dropped from a later one (a plan that
-  states every condition after its last sub-task);
+- a condition an earlier sub-task already states is dropped from a later one, and one on the
+  hand beside an object only an earlier sub-task names is moved to it (a plan that states
+  every condition after its last sub-task);
 - "staying on the <side> of the <object>": ``passed_on('gripper', <object>, <side>)`` (the side
   kept while passing); an ``on(...)`` beside that object, or of that object on the table, is
   dropped — the hand only passes it, and the object does not move;
@@ -250,11 +251,11 @@ def derive_conditions(code: str, objects: tuple[str, ...] | list[str]
     if not steps:
         return None
     names = tuple(objects)
+    stated, notes = _relocated(steps)
     lines: list[str] = []
-    notes: list[str] = []
     earlier: set[str] = set()
-    for subtask, line, expects in steps:
-        conds = [c for e in expects for c in _stated(e)]
+    for (subtask, line, expects), conds in zip(steps, stated, strict=True):
+        moved_here = conds != [c for e in expects for c in _stated(e)]
         done, changed = derive_subtask(subtask, list(conds), names)
         own = {c.source for c in derive_subtask(subtask, [], names)[0]}  # its words ask these
         again = [c for c in done if c.source in earlier and c.source not in own]  # stated late
@@ -263,13 +264,35 @@ def derive_conditions(code: str, objects: tuple[str, ...] | list[str]
             changed = [*changed, *(f"- {c.source} (stated for an earlier sub-task)" for c in again)]
         earlier |= {c.source for c in done}
         lines.append(line)
-        if changed:
+        if changed or moved_here:
             notes += [f"{subtask!r}: {n}" for n in changed]
             if done:
                 lines.append(f"expect({', '.join(c.source for c in done)})")
         else:
             lines += expects
     return ("\n".join(lines), notes) if notes else None
+
+
+def _relocated(steps: list[tuple[str, str, list[str]]]) -> tuple[list[list[Stated]], list[str]]:
+    """The conditions stated after each step, where a condition on the hand beside an object
+    (``near``/``on``/``above``) that its sub-task does not name but an earlier one does is
+    moved to the latest such sub-task (a plan that states them late); with the moves in words."""
+    stated = [[c for e in expects for c in _stated(e)] for _, _, expects in steps]
+    texts = [" ".join(s.lower().split()) for s, _, _ in steps]
+    notes: list[str] = []
+    for k in range(1, len(steps)):
+        for c in list(stated[k]):
+            other = c.args[1] if len(c.args) > 1 else ""
+            if c.helper not in ("near", "on", "above") or not c.args[0] \
+                    or not is_end_effector(c.args[0]) or other in ("", "table") \
+                    or other in texts[k]:
+                continue
+            j = next((j for j in range(k - 1, -1, -1) if other in texts[j]), None)
+            if j is not None:
+                stated[k].remove(c)
+                stated[j].append(c)
+                notes.append(f"{steps[k][0]!r}: {c.source} moved to {steps[j][0]!r}")
+    return stated, notes
 
 
 def keep_instruction_speed(instruction: str, code: str) -> tuple[str, list[str]] | None:
