@@ -61,6 +61,18 @@ def test_same_seed_same_state_different_seed_differs(world: TabletopWorld) -> No
     assert not np.array_equal(a, b)
 
 
+def test_the_object_list_does_not_tell_which_blocks_a_layout_named(world: TabletopWorld) -> None:
+    """A task's layout places its named blocks first; the scene lists blocks and lines by
+    name, so a prompt's object list gives no hint of the block an instruction refers to."""
+    for named in (("yellow",), ("blue",)):
+        world.reset(np.random.default_rng(3), SceneLayout(blocks=named, lines=("pink",),
+                                                          extra_blocks=(3, 3)))
+        blocks = [n for n in world.object_names if n.endswith(" block")]
+        lines = [n for n in world.object_names if n.endswith(" line")]
+        assert blocks == sorted(blocks) and len(blocks) == 4 and f"{named[0]} block" in blocks
+        assert lines == sorted(lines)
+
+
 def test_layout_places_required_objects_apart_and_reachable(world: TabletopWorld) -> None:
     layout = SceneLayout(blocks=("blue", "red block"), lines=("green",), extra_blocks=(5, 5),
                          drawer_openings={"top": 0.1}, poses={"blue block": (0.0, -0.2, 0.0)})

@@ -93,6 +93,19 @@ def test_far_is_where_the_hand_ends_not_the_path_it_left_by(checks: IntentChecks
     assert h["far"]("gripper", "green block", cm=7).held
 
 
+def test_a_condition_may_name_an_object_as_the_plan_described_it(checks: IntentChecks) -> None:
+    """parse_query_obj resolved "block next to the blue block" to the green block: a condition
+    naming the description measures the green block, not the blue one its words hold."""
+    h, scene = helpers(checks), checks.api.scene
+    checks.alias("the block next to the blue block", "green block")
+    checks.begin_subtask("push the block next to the blue block to the left")
+    scene.move("green block", (0.0, -0.06, 0.0))
+    assert h["moved"]("block next to the blue block", toward="left").held
+    assert not h["moved"]("blue block").held
+    with pytest.raises(Exception, match="unknown object"):
+        checks._name("block farthest from the robot")  # never resolved: no guess
+
+
 def test_holding_needs_a_closed_gripper_at_the_object(checks: IntentChecks) -> None:
     h, scene = helpers(checks), checks.api.scene
     scene.set_ee(scene.detect("yellow block").position)

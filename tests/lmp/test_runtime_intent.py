@@ -124,3 +124,10 @@ def test_a_post_condition_that_misses_a_constraint_is_sent_back_once() -> None:
                   derived_conditions=False)
     off.run(INSTRUCTION)
     assert [r.condition for r in off.intent.results] == ["near('gripper', 'blue block', cm=12)"]
+
+
+def test_an_object_found_by_description_can_be_named_so_in_a_condition() -> None:
+    rt = runtime(Backend([{"lmp": "parse_query_obj", "query": "leftmost block",
+                           "responses": ["ret_val = detect('pink block')"]}]))
+    assert rt.query("parse_query_obj", "leftmost block").name == "pink block"
+    assert rt.intent.namespace(lambda fn: fn)["near"]("leftmost block", "pink block", cm=1).held

@@ -72,8 +72,8 @@ REGIONS: Final[dict[str, Words]] = {
 
 
 #: relations to the robot, as (words, sign): the block whose distance to the robot times the
-#: sign is highest is meant. "The robot" is both its base and its hand at reset: a block is
-#: referred to so only when it is singled out from both.
+#: sign is highest is meant. "The robot" is its base, its hand at reset and the arm between them: a
+#: block is referred to so only when it is singled out from each.
 TO_ROBOT: Final[tuple[tuple[Words, float], ...]] = (
     ({"dev": ("the block nearest the robot",), "test": ("the block closest to the robot",)},
      -1.0),
@@ -196,12 +196,13 @@ def render(task: str, attrs: Mapping[str, str], blocks: Mapping[str, np.ndarray]
 
 def scene_blocks(world: Any) -> tuple[dict[str, np.ndarray], tuple[np.ndarray, ...]]:
     """The blocks of ``world`` (name → centre [m], shape (3,)) as reset placed them, and the
-    robot's base and hand positions [m]."""
+    robot's points [m]: its base, its hand and their midpoint (where the arm's perceived
+    centre lies)."""
     blocks = {n: np.asarray(world.object_position(n), dtype=np.float64)
               for n in world.object_names if n.endswith(" block")}
-    robot = (np.asarray(world.base_position, dtype=np.float64),
-             np.asarray(world.get_ee_pose()[0], dtype=np.float64))
-    return blocks, robot
+    base = np.asarray(world.base_position, dtype=np.float64)
+    hand = np.asarray(world.get_ee_pose()[0], dtype=np.float64)
+    return blocks, (base, hand, (base + hand) / 2.0)  # the arm's body lies between them
 
 
 __all__ = ["ACROSS", "DISTANCES", "DRAWERS", "NEXT_TO", "ORDINAL", "REGIONS", "RELATION_MARGIN_M", "TO_ROBOT",

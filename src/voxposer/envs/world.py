@@ -118,7 +118,10 @@ class TabletopWorld(SensingMixin, SteppedPhysicsMixin, DisturbanceMixin, ArmCont
         present = ["table", "robot", "gripper"]
         if placement.cabinet:
             present += ["cabinet"] + [f"{w} drawer{s}" for w in DRAWERS for s in ("", " handle")]
-        present += [f"{c} block" for c in placement.blocks] + [f"{c} line" for c in placement.lines]
+        # blocks and lines by name, not as the layout placed them: the order must not tell
+        # which of them a task named (the layout places those first)
+        present += [f"{c} block" for c in sorted(placement.blocks)]
+        present += [f"{c} line" for c in sorted(placement.lines)]
         self._present = tuple(present)
         self._obs = None
         self.advance(25)

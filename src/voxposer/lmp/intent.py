@@ -33,7 +33,7 @@ from voxposer.lmp.intent_conditions import Condition, IntentResult, call_text
 from voxposer.lmp.intent_motion import AWAY_CM, NEAR_CM, PathConditions
 from voxposer.lmp.intent_paths import box_gap, densify, face_shift
 from voxposer.lmp.sides import parse_side
-from voxposer.perception.names import is_end_effector, match_name
+from voxposer.perception.names import is_end_effector, match_name, normalize_name
 
 #: default displacement [cm] that counts as "moved".
 MOVED_CM: Final = 2.0
@@ -61,6 +61,8 @@ class IntentChecks(PathConditions):
         self.api = api
         self.results: list[IntentResult] = []
         self._subtask = ""
+        #: descriptions parse_query_obj resolved → scene names (:meth:`alias`)
+        self._aliases: dict[str, str] = {}
         self._before: dict[str, NDArray[np.float64]] = {}
         self._before_box: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         #: every visible object's half-extent [m] (3,) when the sub-task began (a block
@@ -265,9 +267,18 @@ class IntentChecks(PathConditions):
                          "from it")
 
     # --------------------------------------------------------------- perception
+    def alias(self, words: str, name: str) -> None:
+        """Record that ``parse_query_obj(words)`` found ``name`` ("leftmost block" → "green
+        block"), so a condition may name the object as the plan described it."""
+        self._aliases[normalize_name(words)] = name
+
     def _name(self, obj: Any) -> str:
         text = str(getattr(obj, "name", obj))
-        return "gripper" if is_end_effector(text) else match_name(text, self.api.scene.object_names)
+        if is_end_effector(text):
+            return "gripper"
+        if (named := self._aliases.get(normalize_name(text))) is not None:
+            return named  # before matching words: "block next to the purple block"
+        return match_name(text, self.api.scene.object_names)
 
     def _ee(self) -> NDArray[np.float64]:
         return np.asarray(self.api.scene.ee_pose()[0], dtype=np.float64).reshape(3)

@@ -292,7 +292,10 @@ class LMPRuntime:
             namespace = self.sandbox.run(code, self._variables(spec, query))
             if spec.role == "object" and is_nothing(namespace.get(spec.result_name or "", 0)):
                 raise NothingFound(query, self.scene.object_names)
-            return check_result(spec, namespace, self.scene.grid)
+            result = check_result(spec, namespace, self.scene.grid)
+            if spec.role == "object" and isinstance(name := getattr(result, "name", None), str):
+                self.intent.alias(query, name)
+            return result
         except Exception as exc:
             error = describe(exc)
             raise

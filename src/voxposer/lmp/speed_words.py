@@ -19,10 +19,10 @@ _FRACTIONS: Final = {"half": 0.5, "quarter": 0.25, "third": 1 / 3, "fifth": 0.2,
 _MULTIPLES: Final = {"twice": 2.0, "double": 2.0, "triple": 3.0, "thrice": 3.0}
 _NUMBERS: Final = {"two": 2.0, "three": 3.0, "four": 4.0, "five": 5.0}
 _FAST: Final = frozenset({"fast", "faster", "fastest", "quick", "quickly", "quicker", "rapidly",
-                          "rapid", "swiftly", "swift", "hurry", "briskly", "speedily", "higher",
+                          "rapid", "swiftly", "swift", "hurry", "hurried", "brisk", "briskly", "speedily", "higher",
                           "increased", "full", "maximum", "max", "top"})
 _SLOW: Final = frozenset({"slow", "slowly", "slower", "slowest", "gently", "carefully",
-                          "leisurely", "crawl", "cautiously", "lower", "reduced", "minimum",
+                          "leisurely", "crawl", "snail", "cautiously", "lower", "reduced", "minimum",
                           "min", "low"})
 _SPEED_NOUN: Final = r"(?:speed|pace|velocity)"
 #: "3x speed", "3 times faster", "three times as fast", "2.5x slower".
