@@ -15,6 +15,7 @@ from voxposer.bench.paraphrases import PARAPHRASES
 from voxposer.bench.runner import BenchConfig
 from voxposer.bench.vague_relational import (
     DISTANCES,
+    REGIONS,
     RELATION_MARGIN_M,
     VELOCITIES,
     block_reference,
@@ -119,3 +120,17 @@ def test_an_ordinal_needs_a_clear_gap_on_both_sides() -> None:
     assert "the third block from the left" in options("blue block", blocks, "dev", robot)
     blocks["blue block"] = np.array([0.0, -0.1 + RELATION_MARGIN_M / 2])  # crowds the green one
     assert not {o for o in options("green block", blocks, "dev", robot) if o and "second" in o}
+
+
+def test_a_region_said_by_the_robot_is_the_side_the_check_judges() -> None:
+    """The API reads "the side of the table nearest the robot" as the back side (the robot
+    stands at the back), the same point as the region's own words."""
+    from voxposer.lmp import make_tabletop_scene
+    from voxposer.lmp.api import LMPAPI
+
+    api = LMPAPI(make_tabletop_scene())
+    table = api.detect("table")
+    for region, words in REGIONS.items():
+        side = region.removesuffix(" of the table")
+        for said in words["dev"] + words["test"]:
+            assert np.array_equal(api.point_on(table, said), api.point_on(table, side)), said

@@ -16,7 +16,8 @@ while the task's own check still judges the slot's value:
   distance ("a hand's width" for 9 cm, "roughly two inches" for 5 cm);
 - ``[velocity]`` by manner ("a brisk pace", "a crawl") within the check's speed band;
 - ``[deixis]`` by the drawer's state ("the open drawer": only the named drawer starts open);
-- ``[region]`` by its relation to the robot ("the half of the table nearest the robot").
+- ``[region]`` by its relation to the robot ("the side of the table nearest the robot": a
+  side, the band the check judges, not a half of the table).
 
 Dev and test renderings differ in their words, as the paraphrases do.
 """
@@ -64,10 +65,10 @@ VELOCITIES: Final[dict[str, Words]] = {
 DRAWERS: Final[Words] = {"dev": ("open",), "test": ("opened", "partly open")}
 #: region → split → renderings by its relation to the robot (at the back of the table).
 REGIONS: Final[dict[str, Words]] = {
-    "back side of the table": {"dev": ("half of the table nearest the robot",),
-                               "test": ("part of the table by the robot's base",)},
-    "front side of the table": {"dev": ("half of the table farthest from the robot",),
-                                "test": ("far side of the table, away from the robot",)},
+    "back side of the table": {"dev": ("side of the table nearest the robot",),
+                               "test": ("side of the table next to the robot",)},
+    "front side of the table": {"dev": ("side of the table farthest from the robot",),
+                                "test": ("side of the table away from the robot",)},
 }
 
 
