@@ -123,3 +123,24 @@ def test_the_movable_is_what_the_sub_task_moves(subtask: str, movable: str,
     entity = LMPAPI(scene).detect(movable)
     fix = corrected_movable(subtask, entity, scene.object_names)
     assert (fix[0] if fix else None) == corrected
+
+
+@pytest.mark.parametrize(("query", "written", "expected"), [
+    ("faster speed within 5cm of the yellow block", 0.5, 2.0),  # turned round: the words'
+    ("a quarter of the speed in the right side of the table", 2.0, 0.25),
+    ("faster speed within 5cm of the yellow block", 1.5, 1.5),  # agrees: kept
+    ("within 5cm of the yellow block", 0.5, 0.5),  # no speed said: kept
+])
+def test_a_velocity_map_that_turns_the_words_round_is_corrected(query: str, written: float,
+                                                                 expected: float) -> None:
+    code = ("velocity_map = get_empty_velocity_map()\n"
+            "block = parse_query_obj('yellow block')\n"
+            f"set_voxel_by_radius(velocity_map, block.position, 13, {written})\n"
+            "ret_val = velocity_map")
+    rt = LMPRuntime(make_tabletop_scene(), ReplayBackend([
+        {"lmp": "get_velocity_map", "query": query, "responses": [code]}]),
+        handler=RecordingHandler(), transcript=Transcript())
+    velocity = rt.query("get_velocity_map", query)
+    assert set(velocity[velocity != 1.0].tolist()) == {expected}
+    events = [e for e in rt.transcript.events if e["event"] == "speed_corrected"]
+    assert len(events) == (expected != written)

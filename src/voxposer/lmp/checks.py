@@ -17,6 +17,7 @@ from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.lmp.checklist import MOVE_AWAY
 from voxposer.lmp.object_view import ObjectView
 from voxposer.lmp.registry import LMPSpec
+from voxposer.lmp.speed_words import same_direction, speed_factor
 from voxposer.perception.names import is_end_effector, leading_name
 from voxposer.valuemaps.maps import check_value_map
 
@@ -153,3 +154,25 @@ def corrected_movable(subtask: str, movable: Any, objects: tuple[str, ...] = ()
             obj = named
         return obj, f"the sub-task pushes the {obj}; with the gripper as the movable it would not move"
     return None
+
+
+def corrected_speed(query: str, velocity: np.ndarray) -> tuple[np.ndarray, str] | None:
+    """``velocity`` (a checked velocity map, default 1) with the scales its code set turned
+    to the direction ``query``'s words ask, when every one of them goes the other way
+    ("faster speed within 5cm of the yellow block" written as 0.5 there): those voxels get the
+    words' factor (:func:`~voxposer.lmp.speed_words.speed_factor`: 2 for a bare "faster", 0.25
+    for "a quarter of the speed"). None when the map agrees or the words say no speed.
+
+    Returns:
+        (the corrected map, why in words), or None.
+    """
+    factor = speed_factor(query)
+    set_ = velocity != 1.0
+    if factor is None or factor == 1.0 or not np.any(set_):
+        return None
+    values = np.unique(velocity[set_])
+    if any(same_direction(float(v), factor) for v in values):
+        return None
+    fixed = np.where(set_, np.float32(factor), velocity).astype(velocity.dtype)
+    return fixed, (f"the query asks {factor:g}x the speed; the map set "
+                   f"{', '.join(f'{v:g}' for v in values[:3])} there")

@@ -97,6 +97,9 @@ class LMPConfig:
         hover_over: a sub-task that makes an object hover, when the instruction hovers over
             it, becomes the hand's motion "move to a point <n>cm above the <object>"
             (:func:`~voxposer.lmp.plan_completion.hover_over`).
+        correct_speed_direction: a velocity map whose set scales all go the other way than
+            its query's words ("faster" written as 0.5) gets the words' factor there
+            (:func:`~voxposer.lmp.checks.corrected_speed`, a ``speed_corrected`` event).
         keep_instruction_speed: a sub-task whose speed asks the opposite of the
             instruction's ("faster" planned for "a quarter of the speed") gets the
             instruction's speed phrase (:func:`~voxposer.lmp.plan_conditions.keep_instruction_speed`).
@@ -125,6 +128,7 @@ class LMPConfig:
     carry_stay_on: bool = True
     drop_final_reset: bool = True
     hover_over: bool = True
+    correct_speed_direction: bool = True
     keep_instruction_speed: bool = True
     derived_conditions: bool = True
     resolve_exact_names: bool = True

@@ -38,7 +38,7 @@ from voxposer.errors import (
 )
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
-from voxposer.lmp.checks import check_result
+from voxposer.lmp.checks import check_result, corrected_speed
 from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
@@ -295,6 +295,12 @@ class LMPRuntime:
             result = check_result(spec, namespace, self.scene.grid)
             if spec.role == "object" and isinstance(name := getattr(result, "name", None), str):
                 self.intent.alias(query, name)
+            if spec.map_kind == "velocity" and self.config.correct_speed_direction \
+                    and (fix := corrected_speed(query, result)) is not None:
+                result = fix[0]
+                if not replay:
+                    self.transcript.write("speed_corrected", lmp=spec.name, query=query,
+                                          why=fix[1])
             return result
         except Exception as exc:
             error = describe(exc)
