@@ -27,6 +27,7 @@ from __future__ import annotations
 import logging
 import time
 from dataclasses import asdict
+from functools import partial
 from typing import Any
 
 from voxposer.errors import (
@@ -43,15 +44,7 @@ from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.intent import IntentChecks
-from voxposer.lmp.plan_completion import (
-    LIFT_SUBTASK,
-    carry_stay_on,
-    drop_final_reset,
-    grasp_before_drop,
-    hover_over,
-    lift_after_grasp,
-)
-from voxposer.lmp.plan_conditions import derive_conditions, keep_instruction_speed
+from voxposer.lmp.plan_pipeline import complete_plan
 from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
@@ -226,48 +219,11 @@ class LMPRuntime:
         raise give_up(spec.name, query, attempts, last) from last
 
     def _complete_plan(self, query: str, code: str, attempt: int) -> str:
-        """The planner's ``code`` completed as :mod:`voxposer.lmp.plan_completion` says (each
-        completion recorded as a ``plan_completed`` transcript event)."""
-        if self.config.keep_instruction_speed \
-                and (kept := keep_instruction_speed(query, code)) is not None:
-            code = kept[0]
-            self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                  added="; ".join(kept[1]),
-                                  why="a sub-task's speed asked the opposite of the instruction's")
-        if self.config.carry_stay_on and (done := carry_stay_on(
-                query, code, tuple(self.scene.object_names))) is not None:
-            self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                  added="the instruction's staying-on clause",
-                                  why="no sub-task carried it")
-            code = done
-        if self.config.hover_over and (done := hover_over(
-                query, code, tuple(self.scene.object_names))) is not None:
-            self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                  added="the hover as the hand's motion",
-                                  why="a sub-task made the object hover")
-            code = done
-        if self.config.grasp_before_drop and (done := grasp_before_drop(code)) is not None:
-            self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                  added="grasp, lift and carry before the release",
-                                  why="a sub-task drops an object the plan never grasped")
-            code = done
-        if self.config.lift_after_grasp and (done := lift_after_grasp(code)) is not None:
-            self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                  added=f"composer({LIFT_SUBTASK!r})",
-                                  why="the plan ended on a grasp of a free object")
-            code = done
-        if self.config.drop_final_reset and (done := drop_final_reset(code)) is not None:
-            self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                  removed=f"composer({LIFT_SUBTASK!r})",
-                                  why="it would undo the hand's motion the plan ends on")
-            code = done
-        if self.config.derived_conditions and (derived := derive_conditions(
-                code, tuple(self.scene.object_names))) is not None:
-            code = derived[0]
-            self.transcript.write("plan_completed", query=query, attempt=attempt,
-                                  added="; ".join(derived[1]),
-                                  why="post-conditions the sub-tasks' words ask")
-        return code
+        """The planner's ``code`` completed (:mod:`voxposer.lmp.plan_pipeline`), each change
+        recorded as a ``plan_completed`` transcript event."""
+        return complete_plan(query, code, self.config, tuple(self.scene.object_names),
+                             partial(self.transcript.write, "plan_completed", query=query,
+                                     attempt=attempt))
 
     def _complete(self, spec: LMPSpec, query: str, messages: list[ChatMessage], n_prefix: int,
                   attempt: int) -> str:

@@ -1,0 +1,88 @@
+"""The planner's code completed before it runs: every completion, in order, behind its switch.
+
+Each step (:mod:`voxposer.lmp.plan_completion`, :mod:`voxposer.lmp.plan_conditions`) reads
+the plan's code (and the instruction, the scene's object names) and returns new code, or None
+when the plan needs nothing of it; :func:`complete_plan` runs those the :class:`LMPConfig`
+switches on and reports each change (what was added or removed, and why) to ``record`` — the
+runtime writes them as ``plan_completed`` transcript events.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Final, NamedTuple
+
+from voxposer.lmp.plan_completion import (
+    LIFT_SUBTASK,
+    carry_stay_on,
+    drop_final_reset,
+    grasp_before_drop,
+    hover_over,
+    lift_after_grasp,
+)
+from voxposer.lmp.plan_conditions import derive_conditions, keep_instruction_speed
+from voxposer.lmp.registry import LMPConfig
+
+#: (instruction, code, object names) → (new code, what changed in words) or None.
+Completion = Callable[[str, str, tuple[str, ...]], "tuple[str, str] | None"]
+
+
+class Step(NamedTuple):
+    """One completion: the :class:`LMPConfig` switch, the function, the event's key for its
+    change ("added"/"removed") and why it is made."""
+
+    switch: str
+    complete: Completion
+    key: str
+    why: str
+
+
+def _listed(out: tuple[str, list[str]] | None) -> tuple[str, str] | None:
+    return None if out is None else (out[0], "; ".join(out[1]))
+
+
+def _fixed(text: str, fn: Callable[..., str | None]) -> Completion:
+    """A completion that reports the same words whenever it changes the plan."""
+    def run(query: str, code: str, names: tuple[str, ...]) -> tuple[str, str] | None:
+        done = fn(query, code, names)
+        return None if done is None else (done, text)
+    return run
+
+
+#: the completions, in the order they run.
+STEPS: Final[tuple[Step, ...]] = (
+    Step("keep_instruction_speed", lambda q, c, _: _listed(keep_instruction_speed(q, c)),
+         "added", "a sub-task's speed asked the opposite of the instruction's"),
+    Step("carry_stay_on", _fixed("the instruction's staying-on clause", carry_stay_on),
+         "added", "no sub-task carried it"),
+    Step("hover_over", _fixed("the hover as the hand's motion", hover_over),
+         "added", "a sub-task made the object hover"),
+    Step("grasp_before_drop", _fixed("grasp, lift and carry before the release",
+                                     lambda _q, c, _n: grasp_before_drop(c)),
+         "added", "a sub-task drops an object the plan never grasped"),
+    Step("lift_after_grasp", _fixed(f"composer({LIFT_SUBTASK!r})",
+                                    lambda _q, c, _n: lift_after_grasp(c)),
+         "added", "the plan ended on a grasp of a free object"),
+    Step("drop_final_reset", _fixed(f"composer({LIFT_SUBTASK!r})",
+                                    lambda _q, c, _n: drop_final_reset(c)),
+         "removed", "it would undo the hand's motion the plan ends on"),
+    Step("derived_conditions", lambda _q, c, n: _listed(derive_conditions(c, n)),
+         "added", "post-conditions the sub-tasks' words ask"),
+)
+
+
+def complete_plan(instruction: str, code: str, config: LMPConfig, objects: tuple[str, ...],
+                  record: Callable[..., None]) -> str:
+    """``code`` after every completion ``config`` switches on; ``record(**fields)`` is called
+    once per change with the event's key (``added``/``removed``) and ``why``."""
+    for step in STEPS:
+        if not getattr(config, step.switch):
+            continue
+        done = step.complete(instruction, code, objects)
+        if done is not None:
+            code = done[0]
+            record(**{step.key: done[1], "why": step.why})
+    return code
+
+
+__all__ = ["STEPS", "Step", "complete_plan"]
