@@ -18,11 +18,12 @@ from typing import Any
 from voxposer.bench.config import Tolerances
 from voxposer.bench.methods import NO_LLM, REFERENCE, REFERENCE_BLIND, REFERENCE_LLMS, get_method
 from voxposer.bench.paper import TABLE2, paper_category_means, paper_rate
-from voxposer.bench.protocol import INSTRUCTION_LABELS
+from voxposer.bench.protocol import INSTRUCTION_LABELS, VAGUE_RELATIONAL
 from voxposer.bench.report_disturbed import disturbed_lines
 from voxposer.bench.report_failures import failure_lines
 from voxposer.bench.report_intent import intent_lines
 from voxposer.bench.report_tables import control_lines, provenance_lines, table2_lines
+from voxposer.bench.report_vague import vague_lines
 from voxposer.bench.results import check_single_version, record_key
 from voxposer.bench.tasks import TASKS
 from voxposer.places import PLACES
@@ -149,6 +150,8 @@ def markdown(records: list[dict[str, Any]], tol: Tolerances, wall_rates: dict[st
                   + f". LLM calls: {calls}"
                   + (f", {cached} of them answered by the response cache or a recording "
                      "(a repeated identical request)" if cached else "") + ".", ""]
+        if instructions == VAGUE_RELATIONAL:
+            lines += vague_lines(group)
     for method in sorted({g[0] for g in table}):
         lines += control_lines(table, method, get_method(method).label)
     models = sorted({(m, llm) for m, llm, _ in table if llm not in REFERENCE_LLMS})
