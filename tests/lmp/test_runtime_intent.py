@@ -131,3 +131,21 @@ def test_an_object_found_by_description_can_be_named_so_in_a_condition() -> None
                            "responses": ["ret_val = detect('pink block')"]}]))
     assert rt.query("parse_query_obj", "leftmost block").name == "pink block"
     assert rt.intent.namespace(lambda fn: fn)["near"]("leftmost block", "pink block", cm=1).held
+
+
+def test_a_description_cut_short_by_a_map_program_is_made_whole() -> None:
+    """The map program passes only "third block"; the runtime asks parse_query_obj for "third
+    block from the right", as its own query says."""
+    query = "a point above the third block from the right"
+    rt = runtime(Backend([
+        {"lmp": "get_affordance_map", "query": query, "responses": [
+            "affordance_map = get_empty_affordance_map()\n"
+            "block = parse_query_obj('third block')\n"
+            "x, y, z = point_beside(block, 'top', 5)\naffordance_map[x, y, z] = 1\n"
+            "ret_val = affordance_map"]},
+        {"lmp": "parse_query_obj", "query": "third block from the right", "responses": [
+            "blocks = [detect(n) for n in objects if n.endswith('block')]\n"
+            "ret_val = sorted(blocks, key=lambda b: b.position[1], reverse=True)[2]"]}]))
+    assert rt.query("get_affordance_map", query).sum() == 1
+    (event,) = [e for e in rt.transcript.events if e["event"] == "description_completed"]
+    assert event["whole"] == "third block from the right"

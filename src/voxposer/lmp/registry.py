@@ -100,6 +100,9 @@ class LMPConfig:
         correct_speed_direction: a velocity map whose set scales all go the other way than
             its query's words ("faster" written as 0.5) gets the words' factor there
             (:func:`~voxposer.lmp.checks.corrected_speed`, a ``speed_corrected`` event).
+        whole_descriptions: a ``parse_query_obj`` description cut short by the program
+            calling it ("third block" in "the left of the third block from the right") gets
+            the relational tail back (:mod:`voxposer.lmp.descriptions`).
         keep_instruction_speed: a sub-task whose speed asks the opposite of the
             instruction's ("faster" planned for "a quarter of the speed") gets the
             instruction's speed phrase (:func:`~voxposer.lmp.plan_conditions.keep_instruction_speed`).
@@ -129,6 +132,7 @@ class LMPConfig:
     drop_final_reset: bool = True
     hover_over: bool = True
     correct_speed_direction: bool = True
+    whole_descriptions: bool = True
     keep_instruction_speed: bool = True
     derived_conditions: bool = True
     resolve_exact_names: bool = True

@@ -41,6 +41,7 @@ from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
 from voxposer.lmp.checks import check_result, corrected_speed
 from voxposer.lmp.codetext import extract_code
+from voxposer.lmp.descriptions import whole_description
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.intent import IntentChecks
@@ -93,6 +94,7 @@ class LMPRuntime:
         self.transcript = transcript or Transcript()
         self.api = LMPAPI(scene)
         self.intent = IntentChecks(self.api)
+        self._wholes: set[tuple[str, str]] = set()  # descriptions made whole (reported once)
         self.sandbox = Sandbox(self.config.sandbox)
         self.llm_calls = 0
         self.code_cache: dict[tuple[str, str], str] = {}
@@ -271,10 +273,10 @@ class LMPRuntime:
         """The names ``spec``'s code sees (shared API + LMP callables for its role)."""
         out: dict[str, Any] = dict(self.api.namespace())
         if spec.role == "map":
-            out["parse_query_obj"] = self._eager("parse_query_obj")
+            out["parse_query_obj"] = self._eager("parse_query_obj", context=query)
         elif spec.role == "composer":
             for name in ("parse_query_obj", *MAP_LMPS):
-                out[name] = self._lazy(name)
+                out[name] = self._lazy(name, context=query)
             out["execute"] = ExecuteCall(query, self.handler, self.program, self.transcript,
                                          self.intent, self._count_effect,
                                          tuple(self.scene.object_names))
@@ -286,19 +288,32 @@ class LMPRuntime:
             out["objects"] = list(self.scene.object_names)
         return out
 
-    def _eager(self, lmp: str) -> Any:
+    def _eager(self, lmp: str, context: str = "") -> Any:
         def call(query: str) -> Any:
             with suspend_time_limit():
-                return self.query(lmp, str(query))
+                return self.query(lmp, self._whole(lmp, str(query), context))
         call.__name__ = lmp
         return call
 
-    def _lazy(self, lmp: str) -> Any:
+    def _lazy(self, lmp: str, context: str = "") -> Any:
         def call(query: str) -> ValueMapProgram:
             with suspend_time_limit():
-                return self.program(lmp, str(query))
+                return self.program(lmp, self._whole(lmp, str(query), context))
         call.__name__ = lmp
         return call
+
+    def _whole(self, lmp: str, query: str, context: str) -> str:
+        """A ``parse_query_obj`` description the calling program's ``context`` continues
+        ("third block" in "… the third block from the right") made whole
+        (:mod:`voxposer.lmp.descriptions`), recorded as a ``description_completed`` event."""
+        if lmp != "parse_query_obj" or not context or not self.config.whole_descriptions:
+            return query
+        whole = whole_description(query, context, self.scene.object_names)
+        if whole != query and (query, context) not in self._wholes:  # once, not every replan
+            self._wholes.add((query, context))
+            self.transcript.write("description_completed", query=query, whole=whole,
+                                  context=context)
+        return whole
 
     def _composer(self, subtask: str) -> None:
         self._side_effects += 1
