@@ -103,7 +103,7 @@ def test_a_condition_may_name_an_object_as_the_plan_described_it(checks: IntentC
     assert h["moved"]("block next to the blue block", toward="left").held
     assert not h["moved"]("blue block").held
     with pytest.raises(Exception, match="unknown object"):
-        checks._name("block farthest from the robot")  # never resolved: no guess
+        checks._name("block farthest to the left")  # never resolved: no guess
 
 
 def test_holding_needs_a_closed_gripper_at_the_object(checks: IntentChecks) -> None:

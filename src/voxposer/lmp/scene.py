@@ -200,7 +200,8 @@ def make_tabletop_scene() -> BoxScene:
 
     Built from the one layout description (:mod:`voxposer.tabletop`) that the simulator is built
     from: the same table, workspace grid and cabinet (its drawers open toward −y, a handle on
-    each drawer front), ten 5 cm blocks at fixed places and ten 20 cm lines along y.
+    each drawer front), the robot as a column over its base, ten 5 cm blocks at fixed places
+    and ten 20 cm lines along y.
     """
     grid = VoxelGrid(tabletop.WORKSPACE_MIN, tabletop.WORKSPACE_MAX, tabletop.GRID_SHAPE)
     (x0, y0), (x1, y1) = tabletop.TABLE_MIN, tabletop.TABLE_MAX
@@ -218,6 +219,8 @@ def make_tabletop_scene() -> BoxScene:
         boxes[f"{slot.name} drawer handle"] = ((cx - hx, hc - hy, slot.centre_z - hz),
                                                (cx + hx, hc + hy, slot.centre_z + hz),
                                                (0.0, -1.0, 0.0))
+    bx, by, _ = tabletop.ROBOT_BASE  # the arm's column over its base (the simulator's robot)
+    boxes["robot"] = ((bx - 0.08, by - 0.08, 0.0), (bx + 0.08, by + 0.08, 0.35))
     half = tabletop.BLOCK_SIZE / 2
     for colour, (x, y) in BLOCK_XY.items():
         boxes[f"{colour} block"] = ((x - half, y - half, 0.0), (x + half, y + half, 2 * half))
