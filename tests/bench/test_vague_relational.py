@@ -24,6 +24,7 @@ from voxposer.bench.vague_relational import (
 )
 from voxposer.errors import ConfigError
 from voxposer.lmp.backends.replay import ReplayBackend
+from voxposer.lmp.speed_words import speed_factor
 
 BASE, HAND = np.array([-0.60, 0.0, 0.0]), np.array([-0.25, 0.0, 0.4])
 ROBOT = (BASE, HAND)
@@ -74,8 +75,11 @@ def test_vague_quantities_never_ask_less_than_the_check() -> None:
             if said in inches:
                 assert inches[said] * 2.54 >= float(cm) - 0.5, said
     bands = Tolerances().velocity_bands
-    for velocity in VELOCITIES:
-        assert velocity in bands
+    for velocity, words in VELOCITIES.items():
+        lo = bands[velocity][0]
+        for said in words["dev"] + words["test"]:
+            factor = speed_factor(said)  # None: no speed word the project reads
+            assert factor is None or (factor > 1.0) == (lo > 1.0), (velocity, said)
     assert set(DISTANCES) == set(ATTRIBUTES["dist"]["seen"] + ATTRIBUTES["dist"]["unseen"])
 
 

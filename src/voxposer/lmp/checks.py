@@ -167,12 +167,15 @@ def corrected_speed(query: str, velocity: np.ndarray) -> tuple[np.ndarray, str] 
         (the corrected map, why in words), or None.
     """
     factor = speed_factor(query)
-    set_ = velocity != 1.0
-    if factor is None or factor == 1.0 or not np.any(set_):
+    if factor is None or factor == 1.0:
         return None
-    values = np.unique(velocity[set_])
-    if any(same_direction(float(v), factor) for v in values):
+    set_ = velocity != 1.0
+    if not np.any(set_):
+        return None
+    values = velocity[set_]
+    # some scale goes the words' way (faster: the largest above 1; slower: the smallest below)
+    if same_direction(float(values.max() if factor > 1.0 else values.min()), factor):
         return None
     fixed = np.where(set_, np.float32(factor), velocity).astype(velocity.dtype)
     return fixed, (f"the query asks {factor:g}x the speed; the map set "
-                   f"{', '.join(f'{v:g}' for v in values[:3])} there")
+                   f"{', '.join(f'{v:g}' for v in np.unique(values)[:3])} there")

@@ -251,11 +251,10 @@ def derive_conditions(code: str, objects: tuple[str, ...] | list[str]
     if not steps:
         return None
     names = tuple(objects)
-    stated, notes = _relocated(steps)
+    stated, notes, moved = _relocated(steps)
     lines: list[str] = []
     earlier: set[str] = set()
-    for (subtask, line, expects), conds in zip(steps, stated, strict=True):
-        moved_here = conds != [c for e in expects for c in _stated(e)]
+    for k, ((subtask, line, expects), conds) in enumerate(zip(steps, stated, strict=True)):
         done, changed = derive_subtask(subtask, list(conds), names)
         own = {c.source for c in derive_subtask(subtask, [], names)[0]}  # its words ask these
         again = [c for c in done if c.source in earlier and c.source not in own]  # stated late
@@ -264,7 +263,7 @@ def derive_conditions(code: str, objects: tuple[str, ...] | list[str]
             changed = [*changed, *(f"- {c.source} (stated for an earlier sub-task)" for c in again)]
         earlier |= {c.source for c in done}
         lines.append(line)
-        if changed or moved_here:
+        if changed or k in moved:
             notes += [f"{subtask!r}: {n}" for n in changed]
             if done:
                 lines.append(f"expect({', '.join(c.source for c in done)})")
@@ -273,13 +272,16 @@ def derive_conditions(code: str, objects: tuple[str, ...] | list[str]
     return ("\n".join(lines), notes) if notes else None
 
 
-def _relocated(steps: list[tuple[str, str, list[str]]]) -> tuple[list[list[Stated]], list[str]]:
+def _relocated(steps: list[tuple[str, str, list[str]]]
+               ) -> tuple[list[list[Stated]], list[str], set[int]]:
     """The conditions stated after each step, where a condition on the hand beside an object
     (``near``/``on``/``above``) that its sub-task does not name but an earlier one does is
-    moved to the latest such sub-task (a plan that states them late); with the moves in words."""
+    moved to the latest such sub-task (a plan that states them late); with the moves in words
+    and the steps whose conditions changed."""
     stated = [[c for e in expects for c in _stated(e)] for _, _, expects in steps]
     texts = [" ".join(s.lower().split()) for s, _, _ in steps]
     notes: list[str] = []
+    moved: set[int] = set()
     for k in range(1, len(steps)):
         for c in list(stated[k]):
             other = c.args[1] if len(c.args) > 1 else ""
@@ -291,8 +293,9 @@ def _relocated(steps: list[tuple[str, str, list[str]]]) -> tuple[list[list[State
             if j is not None:
                 stated[k].remove(c)
                 stated[j].append(c)
+                moved |= {j, k}
                 notes.append(f"{steps[k][0]!r}: {c.source} moved to {steps[j][0]!r}")
-    return stated, notes
+    return stated, notes, moved
 
 
 def keep_instruction_speed(instruction: str, code: str) -> tuple[str, list[str]] | None:

@@ -94,7 +94,11 @@ class LMPRuntime:
         self.transcript = transcript or Transcript()
         self.api = LMPAPI(scene)
         self.intent = IntentChecks(self.api)
-        self._wholes: set[tuple[str, str]] = set()  # descriptions made whole (reported once)
+        #: (description, calling query) → the description made whole: worked out once, not at
+        #: every replan (map programs re-run each one)
+        self._wholes: dict[tuple[str, str], str] = {}
+        #: velocity queries whose map agreed with their words (:func:`corrected_speed`)
+        self._speed_agrees: set[str] = set()
         self.sandbox = Sandbox(self.config.sandbox)
         self.llm_calls = 0
         self.code_cache: dict[tuple[str, str], str] = {}
@@ -254,11 +258,14 @@ class LMPRuntime:
             if spec.role == "object" and isinstance(name := getattr(result, "name", None), str):
                 self.intent.alias(query, name)
             if spec.map_kind == "velocity" and self.config.correct_speed_direction \
-                    and (fix := corrected_speed(query, result)) is not None:
-                result = fix[0]
-                if not replay:
-                    self.transcript.write("speed_corrected", lmp=spec.name, query=query,
-                                          why=fix[1])
+                    and query not in self._speed_agrees:
+                if (fix := corrected_speed(query, result)) is None:
+                    self._speed_agrees.add(query)  # the same code at every replan: checked once
+                else:
+                    result = fix[0]
+                    if not replay:
+                        self.transcript.write("speed_corrected", lmp=spec.name, query=query,
+                                              why=fix[1])
             return result
         except Exception as exc:
             error = describe(exc)
@@ -308,11 +315,12 @@ class LMPRuntime:
         (:mod:`voxposer.lmp.descriptions`), recorded as a ``description_completed`` event."""
         if lmp != "parse_query_obj" or not context or not self.config.whole_descriptions:
             return query
-        whole = whole_description(query, context, self.scene.object_names)
-        if whole != query and (query, context) not in self._wholes:  # once, not every replan
-            self._wholes.add((query, context))
-            self.transcript.write("description_completed", query=query, whole=whole,
-                                  context=context)
+        if (whole := self._wholes.get((query, context))) is None:
+            whole = whole_description(query, context, self.scene.object_names)
+            self._wholes[(query, context)] = whole
+            if whole != query:
+                self.transcript.write("description_completed", query=query, whole=whole,
+                                      context=context)
         return whole
 
     def _composer(self, subtask: str) -> None:
