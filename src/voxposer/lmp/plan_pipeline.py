@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Final, NamedTuple
 
+from voxposer.lmp.plan_carry import carry_stated_constraints
 from voxposer.lmp.plan_completion import (
     LIFT_SUBTASK,
     carry_stay_on,
@@ -55,6 +56,8 @@ STEPS: Final[tuple[Step, ...]] = (
          "added", "a sub-task's speed asked the opposite of the instruction's"),
     Step("carry_stay_on", _fixed("the instruction's staying-on clause", carry_stay_on),
          "added", "no sub-task carried it"),
+    Step("carry_stated_constraints", lambda q, c, n: _listed(carry_stated_constraints(q, c, n)),
+         "added", "a post-condition kept a distance or speed the sub-task's words did not"),
     Step("hover_over", _fixed("the hover as the hand's motion", hover_over),
          "added", "a sub-task made the object hover"),
     Step("grasp_before_drop", _fixed("grasp, lift and carry before the release",

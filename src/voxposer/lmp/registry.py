@@ -92,6 +92,9 @@ class LMPConfig:
         carry_stay_on: the instruction's "staying on the <side> of the <object>", carried by
             no sub-task, is given to the plan's one motion
             (:func:`~voxposer.lmp.plan_completion.carry_stay_on`).
+        carry_stated_constraints: a hand motion whose post-condition keeps a distance from
+            an object or a speed near it, and whose words do not, gets the words
+            (:func:`~voxposer.lmp.plan_carry.carry_stated_constraints`).
         drop_final_reset: a final "back to default pose" after a motion of the hand to a
             place is dropped (:func:`~voxposer.lmp.plan_completion.drop_final_reset`).
         hover_over: a sub-task that makes an object hover, when the instruction hovers over
@@ -129,6 +132,7 @@ class LMPConfig:
     lift_after_grasp: bool = True
     grasp_before_drop: bool = True
     carry_stay_on: bool = True
+    carry_stated_constraints: bool = True
     drop_final_reset: bool = True
     hover_over: bool = True
     correct_speed_direction: bool = True

@@ -1,0 +1,157 @@
+"""A constraint the planner states only in a post-condition, carried into its sub-task's words.
+
+The planner writes what must hold after each sub-task (``expect(...)``) and the sub-task's words
+(``composer('...')``) that the composer turns into value maps. The 1.5B model sometimes keeps a
+clause of the instruction only in the post-condition: "get to the back side of the table,
+never coming within 9 cm of the green block" planned as ``composer('move to the back side of
+the table')`` with ``expect(away('gripper', 'green block', cm=9))``. The composer never reads
+the post-condition, so no avoidance map is built and the path goes where it likes; the run then
+fails its own condition. The plan's own condition says what the words lack, in whatever words
+the instruction used, so :func:`carry_stated_constraints` gives the sub-task the words the
+composer's examples read:
+
+- ``away('gripper', <object>, cm=<n>)`` under a motion of the hand whose words keep no distance
+  from that object: "… while staying at least <n>cm from the <object>" (without ``cm``, "…
+  while staying away from the <object>");
+- ``speed('gripper', <factor>, near=<object>, cm=<n>)`` or ``speed(…, inside=<part>)`` under a
+  motion whose words say no speed: "… at <the instruction's speed phrase> when within <n>cm of
+  the <object>" (or "… in the <part> of the table"); the phrase is the instruction's own when
+  it says one of the same direction with a speed noun ("at a quarter of the speed"), else the examples' words for the factor ("faster
+  speed" for 2, "a quarter of the speed") or "<factor>x speed".
+
+Only plain plans (``composer`` and ``expect`` statements) are changed, and only motions of the
+hand ("move/go/head/travel/get to …"), not grasps or pushes (their post-conditions measure the
+object). The runtime records each change as a ``plan_completed`` transcript event.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from typing import Final
+
+from voxposer.lmp.checklist import SPEED_WORDS
+from voxposer.lmp.plan_review import plain_steps
+from voxposer.lmp.speed_words import speed_factor, speed_span
+from voxposer.perception.names import is_end_effector, leading_name
+
+#: a sub-task that moves the hand to a place (not a grasp, push or release).
+_HAND_MOTION: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:move|go|get|head|travel"
+                                 r"|return)\b(?!.*\b(?:push|grasp|pick|drop|release)\b)", re.I)
+
+#: the speed words of the planner's examples for the factors they use.
+_NAMED_SCALES: Final = {2.0: "faster speed", 0.5: "half of the speed",
+                        0.25: "a quarter of the speed"}
+
+
+def _call(source: str) -> ast.Call | None:
+    try:
+        node = ast.parse(source).body[0].value  # type: ignore[attr-defined]
+    except (SyntaxError, IndexError, AttributeError):
+        return None
+    return node if isinstance(node, ast.Call) else None
+
+
+def _conditions(line: str) -> list[ast.Call]:
+    """The helper calls inside one ``expect(...)`` line."""
+    call = _call(line)
+    return [a for a in (call.args if call else []) if isinstance(a, ast.Call)
+            and isinstance(a.func, ast.Name)]
+
+
+def _string(node: ast.expr | None) -> str | None:
+    return node.value if isinstance(node, ast.Constant) and isinstance(node.value, str) else None
+
+
+def _number(node: ast.expr | None) -> float | None:
+    if isinstance(node, ast.Constant) and isinstance(node.value, int | float) \
+            and not isinstance(node.value, bool):
+        return float(node.value)
+    return None
+
+
+def _keyword(call: ast.Call, name: str, position: int | None = None) -> ast.expr | None:
+    for k in call.keywords:
+        if k.arg == name:
+            return k.value
+    return call.args[position] if position is not None and len(call.args) > position else None
+
+
+def _words(text: str) -> set[str]:
+    return set(re.findall(r"[a-z]+", text.lower()))
+
+
+def _away_words(call: ast.Call, subtask: str, objects: tuple[str, ...]) -> str | None:
+    """The words an ``away('gripper', <object>[, cm])`` condition asks of ``subtask``; None
+    when the sub-task already names that object (it keeps the distance in its own words, or
+    goes there: nothing to add), or the call is not of that shape."""
+    what, other = _string(_keyword(call, "obj", 0)), _string(_keyword(call, "target", 1))
+    if what is None or other is None or not is_end_effector(what):
+        return None
+    obj = leading_name(other.lower(), objects)
+    text = subtask.lower()
+    if obj is None or obj.lower() == "table" or obj.lower() in text:
+        return None
+    cm = _number(_keyword(call, "cm", 2))
+    return (f"while staying at least {cm:g}cm from the {obj}" if cm is not None
+            else f"while staying away from the {obj}")
+
+
+def _speed_words(call: ast.Call, subtask: str, instruction: str,
+                 objects: tuple[str, ...]) -> str | None:
+    """The words a scoped ``speed('gripper', <factor>, near=…|inside=…)`` condition asks of
+    ``subtask``; None when the sub-task already says a speed or the call is not of that
+    shape."""
+    what, scale = _string(_keyword(call, "obj", 0)), _number(_keyword(call, "scale", 1))
+    if what is None or scale is None or scale <= 0 or not is_end_effector(what) \
+            or _words(subtask) & SPEED_WORDS:
+        return None
+    near, inside = _string(_keyword(call, "near")), _string(_keyword(call, "inside"))
+    inside = inside or _string(_keyword(call, "side"))
+    span = speed_span(instruction)
+    said = instruction.lower()[span[0]:span[1]].strip() if span else ""
+    factor = speed_factor(said) if re.search(r"\b(?:speed|pace|velocity)\b", said) else None
+    phrase = (said if factor is not None and (factor > 1) == (scale > 1)
+              else _NAMED_SCALES.get(scale, f"{scale:g}x speed"))
+    phrase = phrase if phrase.startswith("at ") else f"at {phrase}"
+    if near is not None:
+        obj = leading_name(near.lower(), objects)
+        if obj is None:
+            return None
+        cm = _number(_keyword(call, "cm"))
+        return f"{phrase} when within {cm:g}cm of the {obj}" if cm else f"{phrase} near the {obj}"
+    if inside is not None:
+        return f"{phrase} in the {inside} of the table"
+    return None
+
+
+def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ...] | list[str]
+                             ) -> tuple[str, list[str]] | None:
+    """``code`` with each hand motion given the words of the constraints its post-conditions
+    state and its words lack (module docs), and the sub-tasks so changed; None when the plan
+    needs nothing. ``objects``: the scene's object names."""
+    steps = plain_steps(code)
+    if not steps:
+        return None
+    names = tuple(objects)
+    lines: list[str] = []
+    changed: list[str] = []
+    for subtask, line, expects in steps:
+        if _HAND_MOTION.match(subtask):
+            added: list[str] = []
+            for cond in (c for e in expects for c in _conditions(e)):
+                helper = cond.func.id  # type: ignore[attr-defined]
+                words = (_away_words(cond, subtask, names) if helper == "away" else
+                         _speed_words(cond, subtask, instruction, names) if helper == "speed"
+                         else None)
+                if words and words not in added:
+                    added.append(words)
+            if added:
+                new = " ".join([subtask.rstrip(" ."), *added])
+                line = f"composer({new!r})"
+                changed.append(new)
+        lines += [line, *expects]
+    return ("\n".join(lines), changed) if changed else None
+
+
+__all__ = ["carry_stated_constraints"]

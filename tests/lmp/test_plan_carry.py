@@ -1,0 +1,72 @@
+"""A constraint stated only in a post-condition is carried into the motion's words."""
+
+from __future__ import annotations
+
+from voxposer.lmp.plan_carry import carry_stated_constraints
+from voxposer.lmp.plan_pipeline import complete_plan
+from voxposer.lmp.registry import LMPConfig
+
+OBJECTS = ("table", "robot", "gripper", "green block", "blue block", "red block")
+
+
+def test_a_distance_kept_only_in_the_post_condition_reaches_the_motion() -> None:
+    code = ("composer('move to the back side of the table')\n"
+            "expect(on('gripper', 'table', 'back side'), away('gripper', 'green block', cm=9))")
+    out = carry_stated_constraints("reach the back side of the table, never nearer than 9 cm "
+                                   "to the green block", code, OBJECTS)
+    assert out is not None
+    new, changed = out
+    assert new.splitlines()[0] == ("composer('move to the back side of the table while staying "
+                                   "at least 9cm from the green block')")
+    assert new.splitlines()[1] == code.splitlines()[1]  # the condition stays
+    assert changed == [new.splitlines()[0][10:-2]]
+
+
+def test_an_away_without_a_distance_asks_to_stay_away() -> None:
+    code = "composer('go to the front side of the table')\nexpect(away('gripper', 'red block'))"
+    new, _ = carry_stated_constraints("x", code, OBJECTS) or ("", [])
+    assert "while staying away from the red block" in new
+
+
+def test_a_scoped_speed_gets_the_instructions_own_phrase_or_the_examples_words() -> None:
+    code = ("composer('move to the back left corner of the table')\n"
+            "expect(speed('gripper', 0.25, near='green block', cm=7))")
+    said = "head for the back left corner, at a quarter of the speed within 7cm of the green block"
+    new, _ = carry_stated_constraints(said, code, OBJECTS) or ("", [])
+    assert new.splitlines()[0] == ("composer('move to the back left corner of the table at a "
+                                   "quarter of the speed when within 7cm of the green block')")
+    fast = code.replace("0.25", "2")
+    new, _ = carry_stated_constraints("hurry near the green block", fast, OBJECTS) or ("", [])
+    assert "at faster speed when within 7cm of the green block" in new
+    region = ("composer('go to the right side of the table')\n"
+              "expect(speed('gripper', 0.5, inside='back side'))")
+    new, _ = carry_stated_constraints("x", region, OBJECTS) or ("", [])
+    assert "at half of the speed in the back side of the table" in new
+
+
+def test_plans_whose_words_already_carry_it_or_that_move_an_object_are_left() -> None:
+    carried = ("composer('move to the back side of the table while staying at least 9cm from "
+               "the green block')\nexpect(away('gripper', 'green block', cm=9))")
+    push = "composer('push the blue block to the back')\nexpect(away('blue block', 'green block'))"
+    toward = "composer('move to the top of the green block')\nexpect(away('gripper', 'green block'))"
+    spoken = ("composer('move to the back side of the table slowly')\n"
+              "expect(speed('gripper', 0.5, near='green block', cm=5))")
+    unscoped = "composer('move to the back side')\nexpect(speed('gripper', 0.5))"
+    loop = "for i in range(2):\n    composer('move left')\nexpect(away('gripper', 'red block'))"
+    for code in (carried, push, toward, spoken, unscoped, loop):
+        assert carry_stated_constraints("x", code, OBJECTS) is None, code
+
+
+def test_the_pipeline_carries_it_then_derives_no_second_condition() -> None:
+    code = ("composer('move to the back side of the table')\n"
+            "expect(away('gripper', 'green block', cm=9))")
+    events: list[dict] = []
+    out = complete_plan("reach the back side, never nearer than 9 cm to the green block", code,
+                        LMPConfig(), OBJECTS, lambda **e: events.append(e))
+    assert out.startswith("composer('move to the back side of the table while staying at "
+                          "least 9cm from the green block')")
+    assert out.count("away(") == 1
+    assert events[0]["why"].startswith("a post-condition kept a distance")
+    off = complete_plan("x", code, LMPConfig(carry_stated_constraints=False,
+                                             derived_conditions=False), OBJECTS, lambda **e: None)
+    assert off == code
