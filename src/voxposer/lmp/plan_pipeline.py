@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Final, NamedTuple
 
+from voxposer.lmp.plan_along import push_along_ends
 from voxposer.lmp.plan_carry import carry_stated_constraints
 from voxposer.lmp.plan_completion import (
     LIFT_SUBTASK,
@@ -63,6 +64,9 @@ STEPS: Final[tuple[Step, ...]] = (
     Step("grasp_before_drop", _fixed("grasp, lift and carry before the release",
                                      lambda _q, c, _n: grasp_before_drop(c)),
          "added", "a sub-task drops an object the plan never grasped"),
+    Step("push_along_ends", _fixed("the push to the line's near end, then its far end",
+                                   lambda _q, c, n: push_along_ends(c, n)),
+         "added", "a sub-task pushed along a line in one motion"),
     Step("lift_after_grasp", _fixed(f"composer({LIFT_SUBTASK!r})",
                                     lambda _q, c, _n: lift_after_grasp(c)),
          "added", "the plan ended on a grasp of a free object"),

@@ -95,6 +95,9 @@ class LMPConfig:
         carry_stated_constraints: a hand motion whose post-condition keeps a distance from
             an object or a speed near it, and whose words do not, gets the words
             (:func:`~voxposer.lmp.plan_carry.carry_stated_constraints`).
+        push_along_ends: a one-sub-task push of a block along a line becomes the examples'
+            pushes to the line's near end, then its far end
+            (:func:`~voxposer.lmp.plan_along.push_along_ends`).
         drop_final_reset: a final "back to default pose" after a motion of the hand to a
             place is dropped (:func:`~voxposer.lmp.plan_completion.drop_final_reset`).
         hover_over: a sub-task that makes an object hover, when the instruction hovers over
@@ -133,6 +136,7 @@ class LMPConfig:
     grasp_before_drop: bool = True
     carry_stay_on: bool = True
     carry_stated_constraints: bool = True
+    push_along_ends: bool = True
     drop_final_reset: bool = True
     hover_over: bool = True
     correct_speed_direction: bool = True
