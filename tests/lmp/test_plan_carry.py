@@ -44,6 +44,20 @@ def test_a_scoped_speed_gets_the_instructions_own_phrase_or_the_examples_words()
     assert "at half of the speed in the back side of the table" in new
 
 
+def test_an_unscoped_speed_takes_the_instructions_zone() -> None:
+    code = ("composer('move to the front right corner of the table')\n"
+            "expect(speed('gripper', 2))")
+    said = "travel to the front right corner; in the right side of the table, go at faster speed"
+    new, _ = carry_stated_constraints(said, code, OBJECTS) or ("", [])
+    assert new.splitlines()[0] == ("composer('move to the front right corner of the table at "
+                                   "faster speed in the right side of the table')")
+    near = "reach the back side, a quarter of the speed within 5cm of the red block"
+    new, _ = carry_stated_constraints(near, code.replace("2)", "0.25)"), OBJECTS) or ("", [])
+    assert "at a quarter of the speed when within 5cm of the red block" in new
+    new, _ = carry_stated_constraints("go slowly", code.replace("2)", "0.5)"), OBJECTS) or ("", [])
+    assert new.splitlines()[0].endswith("of the table at half of the speed')")
+
+
 def test_plans_whose_words_already_carry_it_or_that_move_an_object_are_left() -> None:
     carried = ("composer('move to the back side of the table while staying at least 9cm from "
                "the green block')\nexpect(away('gripper', 'green block', cm=9))")
@@ -51,9 +65,8 @@ def test_plans_whose_words_already_carry_it_or_that_move_an_object_are_left() ->
     toward = "composer('move to the top of the green block')\nexpect(away('gripper', 'green block'))"
     spoken = ("composer('move to the back side of the table slowly')\n"
               "expect(speed('gripper', 0.5, near='green block', cm=5))")
-    unscoped = "composer('move to the back side')\nexpect(speed('gripper', 0.5))"
     loop = "for i in range(2):\n    composer('move left')\nexpect(away('gripper', 'red block'))"
-    for code in (carried, push, toward, spoken, unscoped, loop):
+    for code in (carried, push, toward, spoken, loop):
         assert carry_stated_constraints("x", code, OBJECTS) is None, code
 
 

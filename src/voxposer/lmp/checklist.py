@@ -44,6 +44,12 @@ MOVE_AWAY: Final = re.compile(
     r"^(?:then\s+|and\s+|finally\s+)?(?:move|go|get|back|step|pull|retreat)\s+(?:the\s+"
     r"(?:gripper|hand|end\s+effector)\s+)?(?:back\s+)?away\s+from\s+(?:the\s+)?"
     r"(?P<obj>[a-z ]+?)\.?$")
+#: a table part a speed applies in, said in words: (part).
+REGION_SAID: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s+"
+                            r"((?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge))\s+of\s+the\s+table")
+#: the zone around an object a speed applies in: (cm, object words).
+NEAR_SAID: Final = re.compile(r"\b(?:within|closer\s+than|inside)\s+(\d+(?:\.\d+)?)\s*(?:cm|centimet"
+                          r"(?:er|re)s?)\s+(?:of|from|to)\s+the\s+([a-z ]+)")
 _NUMBER: Final = re.compile(r"(?<![\w.])(\d+(?:\.\d+)?)")
 #: how a sub-task that only constrains begins ("keep at least…", "move at faster speed…").
 _CONSTRAINT_ONLY: Final = re.compile(

@@ -27,7 +27,7 @@ import ast
 import re
 from typing import Final, NamedTuple
 
-from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, SPEED_WORDS, ClauseGap
+from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, REGION_SAID, SPEED_WORDS, ClauseGap
 from voxposer.perception.names import is_end_effector, normalize_name
 
 #: the post-condition helpers the checklist reads (:data:`voxposer.lmp.intent.HELPERS`).
@@ -37,8 +37,6 @@ _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushin
                           r"(?:the\s+)?([a-z]+)")
 _NEAR: Final = re.compile(r"\b(?:within|near|close to|closer than|next to|around)\b[^,;]*?"
                           r"\bthe\s+(?:[a-z]+\s+)?(?:block|cube|object|line|drawer|handle|box)\b")
-_REGION: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s+"
-                            r"(?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge)\s+of\s+the\s+table")
 _STAY_ON: Final = re.compile(r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|"
                              r"passing)\s+(?:on|over|at|along)\s+the\s+(?:top|[a-z]+\s+side)\s+"
                              r"of\s+the\b(?!\s+table\b)")
@@ -118,7 +116,7 @@ def subtask_gaps(subtask: str, conditions: list[Condition],
         elif _NEAR.search(text) and not any("near" in s.keywords for s in speeds):
             gaps.append("where its speed holds: speed('gripper', <scale>, near='<object>', "
                         "cm=<distance>) measures it only near that object")
-        elif _REGION.search(text) and not any(s.keywords & {"inside", "side"} for s in speeds):
+        elif REGION_SAID.search(text) and not any(s.keywords & {"inside", "side"} for s in speeds):
             gaps.append("where its speed holds: speed('gripper', <scale>, inside='<table part>') "
                         "measures it only over that part of the table")
     if words & AVOID_WORDS and not _STAY_ON.search(text) and not MOVE_AWAY.match(text):

@@ -15,9 +15,11 @@ composer's examples read:
   while staying away from the <object>");
 - ``speed('gripper', <factor>, near=<object>, cm=<n>)`` or ``speed(…, inside=<part>)`` under a
   motion whose words say no speed: "… at <the instruction's speed phrase> when within <n>cm of
-  the <object>" (or "… in the <part> of the table"); the phrase is the instruction's own when
-  it says one of the same direction with a speed noun ("at a quarter of the speed"), else the examples' words for the factor ("faster
-  speed" for 2, "a quarter of the speed") or "<factor>x speed".
+  the <object>" (or "… in the <part> of the table"); a ``speed`` without a zone takes the
+  instruction's zone when it says one, else applies to the whole motion. The phrase is the
+  instruction's own when it says one of the same direction with a speed noun ("at a quarter
+  of the speed"), else the examples' words for the factor ("faster speed" for 2) or
+  "<factor>x speed".
 
 Only plain plans (``composer`` and ``expect`` statements) are changed, and only motions of the
 hand ("move/go/head/travel/get to …"), not grasps or pushes (their post-conditions measure the
@@ -30,7 +32,7 @@ import ast
 import re
 from typing import Final
 
-from voxposer.lmp.checklist import SPEED_WORDS
+from voxposer.lmp.checklist import NEAR_SAID, REGION_SAID, SPEED_WORDS
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import speed_factor, speed_span
 from voxposer.perception.names import is_end_effector, leading_name
@@ -99,17 +101,25 @@ def _away_words(call: ast.Call, subtask: str, objects: tuple[str, ...]) -> str |
 
 def _speed_words(call: ast.Call, subtask: str, instruction: str,
                  objects: tuple[str, ...]) -> str | None:
-    """The words a scoped ``speed('gripper', <factor>, near=…|inside=…)`` condition asks of
+    """The words a ``speed('gripper', <factor>[, near=…|inside=…])`` condition asks of
     ``subtask``; None when the sub-task already says a speed or the call is not of that
-    shape."""
+    shape. An unscoped one takes the instruction's zone ("within 5cm of the <object>", "in
+    the right side of the table"), when it says one."""
     what, scale = _string(_keyword(call, "obj", 0)), _number(_keyword(call, "scale", 1))
     if what is None or scale is None or scale <= 0 or not is_end_effector(what) \
             or _words(subtask) & SPEED_WORDS:
         return None
     near, inside = _string(_keyword(call, "near")), _string(_keyword(call, "inside"))
     inside = inside or _string(_keyword(call, "side"))
-    span = speed_span(instruction)
-    said = instruction.lower()[span[0]:span[1]].strip() if span else ""
+    cm = _number(_keyword(call, "cm"))
+    said_text = " ".join(instruction.lower().split())
+    if near is None and inside is None:  # unscoped: the instruction's own zone, if it says one
+        if (zone := NEAR_SAID.search(said_text)) is not None:
+            near, cm = zone.group(2), float(zone.group(1))
+        elif (part := REGION_SAID.search(said_text)) is not None:
+            inside = part.group(1)
+    span = speed_span(said_text)
+    said = said_text[span[0]:span[1]].strip() if span else ""
     factor = speed_factor(said) if re.search(r"\b(?:speed|pace|velocity)\b", said) else None
     phrase = (said if factor is not None and (factor > 1) == (scale > 1)
               else _NAMED_SCALES.get(scale, f"{scale:g}x speed"))
@@ -118,11 +128,10 @@ def _speed_words(call: ast.Call, subtask: str, instruction: str,
         obj = leading_name(near.lower(), objects)
         if obj is None:
             return None
-        cm = _number(_keyword(call, "cm"))
         return f"{phrase} when within {cm:g}cm of the {obj}" if cm else f"{phrase} near the {obj}"
     if inside is not None:
         return f"{phrase} in the {inside} of the table"
-    return None
+    return phrase
 
 
 def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ...] | list[str]

@@ -46,7 +46,7 @@ import re
 from collections.abc import Callable
 from typing import Final, NamedTuple
 
-from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY
+from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, NEAR_SAID, REGION_SAID
 from voxposer.lmp.plan_completion import STAY_ON
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import same_direction, speed_factor, speed_span
@@ -65,10 +65,6 @@ _PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushin
 _ALONG: Final = re.compile(r"\b(?:along|following|down|up)\s+the\s+([a-z]+\s+line)\b")
 _RELEASE: Final = re.compile(r"^(?:then\s+|and\s+)?(?:release|drop|let\s+go\s+of|put\s+down)\s+"
                              r"(?:the\s+)?([a-z ]+)")
-_REGION: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s+"
-                            r"((?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge))\s+of\s+the\s+table")
-_NEAR: Final = re.compile(r"\b(?:within|closer\s+than|inside)\s+(\d+(?:\.\d+)?)\s*(?:cm|centimet"
-                          r"(?:er|re)s?)\s+(?:of|from|to)\s+the\s+([a-z ]+)")
 _AWAY: Final = re.compile(r"\b(?:away\s+from|avoid|avoiding|clear\s+of|around|from)\s+the\s+"
                           r"([a-z ]+)")
 _AT_LEAST: Final = re.compile(r"\bat\s+least\s+(\d+(?:\.\d+)?)\s*(?:cm|centimet(?:er|re)s?)")
@@ -126,7 +122,7 @@ def _speed(text: str, conds: list[Stated], objects: tuple[str, ...]
     factor = speed_factor(text)
     if factor is None:
         return conds, []
-    near, region = _NEAR.search(text), _REGION.search(text)
+    near, region = NEAR_SAID.search(text), REGION_SAID.search(text)
     near_obj = _object(near.group(2), objects) if near else None
     where = (f", near={near_obj!r}, cm={float(near.group(1)):g}" if near and near_obj
              else f", inside={region.group(1)!r}" if region else "")
