@@ -5,8 +5,8 @@ import pytest
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 from voxposer.lmp.prompt import load_prompt
 from voxposer.lmp.prompt_tags import lmp_of
+from voxposer.lmp.query_forms import query_message
 from voxposer.lmp.registry import LMP_SPECS, LMPConfig, get_spec
-from voxposer.lmp.runtime import query_message
 from voxposer.lmp.warm import main, warm_prefixes
 
 

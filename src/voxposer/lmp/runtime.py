@@ -39,36 +39,23 @@ from voxposer.errors import (
 )
 from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
-from voxposer.lmp.checks import check_result, corrected_speed
+from voxposer.lmp.checks import check_result
 from voxposer.lmp.codetext import extract_code
-from voxposer.lmp.descriptions import whole_description
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.plan_pipeline import complete_plan
 from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
-from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX, Prompt, load_prompt
+from voxposer.lmp.prompt import Prompt, load_prompt
+from voxposer.lmp.query_forms import RETRY_MESSAGE, QueryForms, query_message
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec
 from voxposer.lmp.runtime_errors import NoRetry, NothingFound, describe, give_up, is_nothing
 from voxposer.lmp.sandbox import Sandbox, suspend_time_limit
 from voxposer.lmp.scene import Scene
 from voxposer.lmp.transcript import Transcript
-from voxposer.perception.names import normalize_name
 
 logger = logging.getLogger(__name__)
-
-RETRY_MESSAGE = (RETRY_PREFIX + "\n{error}\nFix it. Answer with the corrected Python code only, "
-                 "no explanation.")
-
-
-def query_message(spec: LMPSpec, query: str, object_names: tuple[str, ...]) -> str:
-    """The user message for ``query`` (with the scene's objects for planner/parse_query_obj)."""
-    text = f"{QUERY_PREFIX}{query}"
-    if spec.with_objects:
-        text = f"objects = {list(object_names)!r}\n{text}"
-    return text
-
 
 class LMPRuntime:
     """The LMPs of one scene and backend.
@@ -94,11 +81,7 @@ class LMPRuntime:
         self.transcript = transcript or Transcript()
         self.api = LMPAPI(scene)
         self.intent = IntentChecks(self.api)
-        #: (description, calling query) → the description made whole: worked out once, not at
-        #: every replan (map programs re-run each one)
-        self._wholes: dict[tuple[str, str], str] = {}
-        #: velocity queries whose map agreed with their words (:func:`corrected_speed`)
-        self._speed_agrees: set[str] = set()
+        self.forms = QueryForms(self.config, lambda: self.scene.object_names, self.transcript)
         self.sandbox = Sandbox(self.config.sandbox)
         self.llm_calls = 0
         self.code_cache: dict[tuple[str, str], str] = {}
@@ -127,16 +110,11 @@ class LMPRuntime:
         return self._generate(get_spec(lmp), query)
 
     def _resolved(self, lmp: str, query: str) -> bool:
-        """Whether ``parse_query_obj(query)`` names a scene object exactly (after the synonym
-        table) and is now cached as ``ret_val = detect(<name>)``, without the model."""
-        if lmp != "parse_query_obj" or not self.config.resolve_exact_names:
+        """Whether ``lmp(query)`` is answered without the model and now cached
+        (:meth:`QueryForms.exact_code`)."""
+        if (code := self.forms.exact_code(lmp, query)) is None:
             return False
-        key = normalize_name(query)
-        exact = next((n for n in self.scene.object_names if normalize_name(n) == key), None)
-        if exact is None:
-            return False
-        self.code_cache[(lmp, query)] = f"ret_val = detect({exact!r})"
-        self.transcript.write("resolved", lmp=lmp, query=query, name=exact)
+        self.code_cache[(lmp, query)] = code
         return True
 
     def program(self, lmp: str, query: str) -> ValueMapProgram:
@@ -257,15 +235,8 @@ class LMPRuntime:
             result = check_result(spec, namespace, self.scene.grid)
             if spec.role == "object" and isinstance(name := getattr(result, "name", None), str):
                 self.intent.alias(query, name)
-            if spec.map_kind == "velocity" and self.config.correct_speed_direction \
-                    and query not in self._speed_agrees:
-                if (fix := corrected_speed(query, result)) is None:
-                    self._speed_agrees.add(query)  # the same code at every replan: checked once
-                else:
-                    result = fix[0]
-                    if not replay:
-                        self.transcript.write("speed_corrected", lmp=spec.name, query=query,
-                                              why=fix[1])
+            if spec.map_kind == "velocity":
+                result = self.forms.speed(spec.name, query, result, record=not replay)
             return result
         except Exception as exc:
             error = describe(exc)
@@ -298,30 +269,16 @@ class LMPRuntime:
     def _eager(self, lmp: str, context: str = "") -> Any:
         def call(query: str) -> Any:
             with suspend_time_limit():
-                return self.query(lmp, self._whole(lmp, str(query), context))
+                return self.query(lmp, self.forms.whole(lmp, str(query), context))
         call.__name__ = lmp
         return call
 
     def _lazy(self, lmp: str, context: str = "") -> Any:
         def call(query: str) -> ValueMapProgram:
             with suspend_time_limit():
-                return self.program(lmp, self._whole(lmp, str(query), context))
+                return self.program(lmp, self.forms.whole(lmp, str(query), context))
         call.__name__ = lmp
         return call
-
-    def _whole(self, lmp: str, query: str, context: str) -> str:
-        """A ``parse_query_obj`` description the calling program's ``context`` continues
-        ("third block" in "… the third block from the right") made whole
-        (:mod:`voxposer.lmp.descriptions`), recorded as a ``description_completed`` event."""
-        if lmp != "parse_query_obj" or not context or not self.config.whole_descriptions:
-            return query
-        if (whole := self._wholes.get((query, context))) is None:
-            whole = whole_description(query, context, self.scene.object_names)
-            self._wholes[(query, context)] = whole
-            if whole != query:
-                self.transcript.write("description_completed", query=query, whole=whole,
-                                      context=context)
-        return whole
 
     def _composer(self, subtask: str) -> None:
         self._side_effects += 1

@@ -1,0 +1,103 @@
+"""What the runtime says to the model, and does to a query and to a result besides asking it.
+
+- The query's message: the query after the prompt's query prefix (the scene's objects first
+  for the LMPs that read them), and the retry message that shows the model its error.
+
+- An exact name: a ``parse_query_obj`` query that names a scene object exactly (after the one
+  synonym table) is answered ``ret_val = detect(<name>)`` without the model
+  (``LMPConfig.resolve_exact_names``), recorded as a ``resolved`` transcript event.
+- A whole description: a ``parse_query_obj`` description the calling program cut short
+  ("third block" in "… the third block from the right") gets its relational tail back
+  (:mod:`voxposer.lmp.descriptions`, ``LMPConfig.whole_descriptions``), recorded as a
+  ``description_completed`` event; worked out once per (description, calling query), not at
+  every replan (map programs re-run each one).
+- A speed the other way: a velocity map whose set scales all go against its query's words
+  gets the words' factor there (:func:`~voxposer.lmp.checks.corrected_speed`,
+  ``LMPConfig.correct_speed_direction``), recorded as a ``speed_corrected`` event; a query
+  whose map agreed is not checked again (the same code runs at every replan).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from voxposer.lmp.checks import corrected_speed
+from voxposer.lmp.descriptions import whole_description
+from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX
+from voxposer.lmp.registry import LMPConfig, LMPSpec
+from voxposer.lmp.transcript import Transcript
+from voxposer.perception.names import normalize_name
+
+RETRY_MESSAGE = (RETRY_PREFIX + "\n{error}\nFix it. Answer with the corrected Python code only, "
+                 "no explanation.")
+
+
+def query_message(spec: LMPSpec, query: str, object_names: tuple[str, ...]) -> str:
+    """The user message for ``query`` (with the scene's objects for planner/parse_query_obj)."""
+    text = f"{QUERY_PREFIX}{query}"
+    if spec.with_objects:
+        text = f"objects = {list(object_names)!r}\n{text}"
+    return text
+
+
+class QueryForms:
+    """The exact-name, whole-description and speed-direction forms of one runtime.
+
+    Args:
+        config: the switches (``resolve_exact_names``, ``whole_descriptions``,
+            ``correct_speed_direction``).
+        object_names: the scene's object names, read at each call (a scene may change).
+        transcript: where each change is recorded.
+    """
+
+    def __init__(self, config: LMPConfig, object_names: Callable[[], Sequence[str]],
+                 transcript: Transcript) -> None:
+        self.config = config
+        self._names = object_names
+        self.transcript = transcript
+        self._wholes: dict[tuple[str, str], str] = {}
+        self._speed_agrees: set[str] = set()
+
+    def exact_code(self, lmp: str, query: str) -> str | None:
+        """``ret_val = detect(<name>)`` when ``parse_query_obj(query)`` names a scene object
+        exactly (recorded); None otherwise."""
+        if lmp != "parse_query_obj" or not self.config.resolve_exact_names:
+            return None
+        key = normalize_name(query)
+        exact = next((n for n in self._names() if normalize_name(n) == key), None)
+        if exact is None:
+            return None
+        self.transcript.write("resolved", lmp=lmp, query=query, name=exact)
+        return f"ret_val = detect({exact!r})"
+
+    def whole(self, lmp: str, query: str, context: str) -> str:
+        """``query`` made whole from the calling program's query ``context`` (module docs)."""
+        if lmp != "parse_query_obj" or not context or not self.config.whole_descriptions:
+            return query
+        if (whole := self._wholes.get((query, context))) is None:
+            whole = whole_description(query, context, self._names())
+            self._wholes[(query, context)] = whole
+            if whole != query:
+                self.transcript.write("description_completed", query=query, whole=whole,
+                                      context=context)
+        return whole
+
+    def speed(self, lmp: str, query: str, velocity: Any, *, record: bool) -> Any:
+        """``velocity`` (a checked velocity map) turned to its query's direction when it goes
+        the other way (module docs); ``record``: write the event (not on a replay)."""
+        if not self.config.correct_speed_direction or query in self._speed_agrees \
+                or not isinstance(velocity, np.ndarray):
+            return velocity
+        fix = corrected_speed(query, velocity)
+        if fix is None:
+            self._speed_agrees.add(query)
+            return velocity
+        if record:
+            self.transcript.write("speed_corrected", lmp=lmp, query=query, why=fix[1])
+        return fix[0]
+
+
+__all__ = ["RETRY_MESSAGE", "QueryForms", "query_message"]
