@@ -43,6 +43,19 @@ def test_a_start_inside_the_core_can_still_leave_it() -> None:
     assert plan.reached and np.linalg.norm(plan.trajectory.positions[-1] - GOAL) < 0.03
 
 
+def test_a_start_at_the_edge_of_a_flat_core_goes_round_it_no_deeper() -> None:
+    # a flat 15 cm sphere ("15cm around …" set to one value), the start 13 cm from its
+    # centre on the straight line to the goal: the path leaves round it, never nearer
+    aff, avoid = _maps()
+    edge = KEEP + [-0.13, -0.02, 0.0]
+    plan = PathPlanner(GRID).plan(aff, edge, avoidance_map=avoid)
+    start_gap = float(np.linalg.norm(edge - KEEP))
+    assert plan.reached
+    assert _closest(plan, KEEP) >= start_gap - 0.03  # not deeper than it started (voxels)
+    soft = PathPlanner(GRID, PlannerConfig(cost=CostMapConfig(avoidance_keep_out=0.0)))
+    assert _closest(soft.plan(aff, edge, avoidance_map=avoid), KEEP) < start_gap - 0.03
+
+
 def test_a_target_inside_the_core_falls_back_to_the_soft_cost() -> None:
     aff, avoid = _maps(radius_m=0.2, around=GOAL)  # asked to go where it must stay away from
     plan = PathPlanner(GRID).plan(aff, START, avoidance_map=avoid)
