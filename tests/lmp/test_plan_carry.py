@@ -58,15 +58,27 @@ def test_an_unscoped_speed_takes_the_instructions_zone() -> None:
     assert new.splitlines()[0].endswith("of the table at half of the speed')")
 
 
+def test_a_push_gets_the_examples_avoiding_words_for_its_block_or_the_gripper() -> None:
+    for what in ("yellow block", "gripper"):
+        code = ("composer('push the yellow block to the front right corner of the table')\n"
+                f"expect(away({what!r}, 'green block', cm=10))")
+        new, _ = carry_stated_constraints("x", code, (*OBJECTS, "yellow block")) or ("", [])
+        assert new.splitlines()[0] == ("composer('push the yellow block to the front right "
+                                       "corner of the table while staying away from the green "
+                                       "block')")
+
+
 def test_plans_whose_words_already_carry_it_or_that_move_an_object_are_left() -> None:
     carried = ("composer('move to the back side of the table while staying at least 9cm from "
                "the green block')\nexpect(away('gripper', 'green block', cm=9))")
-    push = "composer('push the blue block to the back')\nexpect(away('blue block', 'green block'))"
+    push = ("composer('push the blue block to the back while avoiding the green block')\n"
+            "expect(away('blue block', 'green block'))")
+    other = "composer('push the blue block to the back')\nexpect(away('red block', 'green block'))"
     toward = "composer('move to the top of the green block')\nexpect(away('gripper', 'green block'))"
     spoken = ("composer('move to the back side of the table slowly')\n"
               "expect(speed('gripper', 0.5, near='green block', cm=5))")
     loop = "for i in range(2):\n    composer('move left')\nexpect(away('gripper', 'red block'))"
-    for code in (carried, push, toward, spoken, loop):
+    for code in (carried, push, other, toward, spoken, loop):
         assert carry_stated_constraints("x", code, OBJECTS) is None, code
 
 

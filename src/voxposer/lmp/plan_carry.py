@@ -2,11 +2,12 @@
 
 The planner writes what must hold after each sub-task (``expect(...)``) and the sub-task's words
 (``composer('...')``) that the composer turns into value maps. The 1.5B model sometimes keeps a
-clause of the instruction only in the post-condition: "get to the back side of the table,
-never coming within 9 cm of the green block" planned as ``composer('move to the back side of
-the table')`` with ``expect(away('gripper', 'green block', cm=9))``. The composer never reads
-the post-condition, so no avoidance map is built and the path goes where it likes; the run then
-fails its own condition. The plan's own condition says what the words lack, in whatever words
+clause of the instruction only in the post-condition: "push the yellow block to the front right
+corner of the table; stay away from the green block" planned as ``composer('push the yellow
+block to the front right corner of the table')`` with ``expect(away('yellow block', 'green
+block'))`` (dev records, ``benchmarks/results/dev-2026-12-06/``: 3 of 6 staying-away pushes).
+The composer never reads the post-condition, so no avoidance map is built and the path goes
+where it likes; the run then fails its own condition. The plan's own condition says what the words lack, in whatever words
 the instruction used, so :func:`carry_stated_constraints` gives the sub-task the words the
 composer's examples read:
 
@@ -21,9 +22,11 @@ composer's examples read:
   of the speed"), else the examples' words for the factor ("faster speed" for 2) or
   "<factor>x speed".
 
-Only plain plans (``composer`` and ``expect`` statements) are changed, and only motions of the
-hand ("move/go/head/travel/get to …"), not grasps or pushes (their post-conditions measure the
-object). The runtime records each change as a ``plan_completed`` transcript event.
+For a push ("push/slide/nudge the <block> …"), an ``away`` of the pushed block or the gripper
+is carried the same way ("… while staying away from the <object>": the examples' words for a
+push that avoids). Only plain plans (``composer`` and ``expect`` statements) are changed, and
+only motions of the hand ("move/go/head/travel/get to …") and pushes, not grasps. The runtime
+records each change as a ``plan_completed`` transcript event.
 """
 
 from __future__ import annotations
@@ -40,6 +43,9 @@ from voxposer.perception.names import is_end_effector, leading_name
 #: a sub-task that moves the hand to a place (not a grasp, push or release).
 _HAND_MOTION: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:move|go|get|head|travel"
                                  r"|return)\b(?!.*\b(?:push|grasp|pick|drop|release)\b)", re.I)
+#: a sub-task that pushes an object: (the words after the verb, which begin with its name).
+_PUSH: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:push|slide|nudge|shove)\s+"
+                          r"(?:the\s+)?([a-z ]+)", re.I)
 
 #: the speed words of the planner's examples for the factors they use.
 _NAMED_SCALES: Final = {2.0: "faster speed", 0.5: "half of the speed",
@@ -83,19 +89,22 @@ def _words(text: str) -> set[str]:
     return set(re.findall(r"[a-z]+", text.lower()))
 
 
-def _away_words(call: ast.Call, subtask: str, objects: tuple[str, ...]) -> str | None:
-    """The words an ``away('gripper', <object>[, cm])`` condition asks of ``subtask``; None
+def _away_words(call: ast.Call, subtask: str, objects: tuple[str, ...],
+                pushed: str | None) -> str | None:
+    """The words an ``away(<what moves>, <object>[, cm])`` condition asks of ``subtask`` (what
+    moves: the gripper, or the ``pushed`` object of a push); None
     when the sub-task already names that object (it keeps the distance in its own words, or
     goes there: nothing to add), or the call is not of that shape."""
     what, other = _string(_keyword(call, "obj", 0)), _string(_keyword(call, "target", 1))
-    if what is None or other is None or not is_end_effector(what):
+    if what is None or other is None or not (is_end_effector(what) or (
+            pushed is not None and leading_name(what.lower(), objects) == pushed)):
         return None
     obj = leading_name(other.lower(), objects)
     text = subtask.lower()
     if obj is None or obj.lower() == "table" or obj.lower() in text:
         return None
     cm = _number(_keyword(call, "cm", 2))
-    return (f"while staying at least {cm:g}cm from the {obj}" if cm is not None
+    return (f"while staying at least {cm:g}cm from the {obj}" if cm is not None and pushed is None
             else f"while staying away from the {obj}")
 
 
@@ -136,7 +145,7 @@ def _speed_words(call: ast.Call, subtask: str, instruction: str,
 
 def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ...] | list[str]
                              ) -> tuple[str, list[str]] | None:
-    """``code`` with each hand motion given the words of the constraints its post-conditions
+    """``code`` with each hand motion or push given the words of the constraints its post-conditions
     state and its words lack (module docs), and the sub-tasks so changed; None when the plan
     needs nothing. ``objects``: the scene's object names."""
     steps = plain_steps(code)
@@ -146,13 +155,15 @@ def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ..
     lines: list[str] = []
     changed: list[str] = []
     for subtask, line, expects in steps:
-        if _HAND_MOTION.match(subtask):
+        push = _PUSH.match(subtask)
+        pushed = leading_name(push.group(1).lower(), names) if push else None
+        if _HAND_MOTION.match(subtask) or pushed is not None:
             added: list[str] = []
             for cond in (c for e in expects for c in _conditions(e)):
                 helper = cond.func.id  # type: ignore[attr-defined]
-                words = (_away_words(cond, subtask, names) if helper == "away" else
-                         _speed_words(cond, subtask, instruction, names) if helper == "speed"
-                         else None)
+                words = (_away_words(cond, subtask, names, pushed) if helper == "away" else
+                         _speed_words(cond, subtask, instruction, names)
+                         if helper == "speed" and pushed is None else None)
                 if words and words not in added:
                     added.append(words)
             if added:
