@@ -152,3 +152,33 @@ def test_a_push_to_the_lines_far_end_gets_there(world: TabletopWorld) -> None:
     assert rec.program_error is None, rec.program_error
     assert rec.success, rec.reason
     assert rec.metrics["along_end"] > 0.085, "the block ends within 1.5 cm of the far end"
+
+
+def _block(centre: np.ndarray) -> np.ndarray:
+    """A 4 cm block's top face at ``centre`` as 25 points (N, 3) [m]."""
+    g = np.linspace(-0.02, 0.02, 5)
+    xx, yy = np.meshgrid(g, g)
+    return np.c_[xx.ravel(), yy.ravel(), np.zeros(25)] + centre
+
+
+def _depth_over(points: np.ndarray, depth_there: float) -> _View:
+    """The table (1 m) with ``depth_there`` at the pixels of ``points`` (the downward camera)."""
+    view = _view(1.0)
+    cols = np.rint(100 * points[:, 0] / 1.0 + 50).astype(int)
+    rows = np.rint(-100 * points[:, 1] / 1.0 + 50).astype(int)
+    view.depth[rows, cols] = depth_there
+    return view
+
+
+def test_a_wholly_hidden_object_is_recalled_where_it_was_unless_seen_through() -> None:
+    grid = VoxelGrid((-0.5, -0.5, -0.5), (0.5, 0.5, 0.5), (50, 50, 50))
+    memory = OcclusionMemory()
+    top = _block(np.zeros(3))
+    seen = object_from_points("blue block", top, np.tile([0.0, 0.0, 1.0], (25, 1)), grid)
+    memory.extend(seen, [_depth_over(top, 1.0)], grid, 0.0)
+    covered = memory.recall("blue block", [_depth_over(top, 0.9)], grid, 0.1)  # a hand above
+    assert covered is not None
+    assert np.allclose(covered.position, seen.position) and len(covered.points) == 25
+    assert memory.recall("blue block", [_view(1.0)], grid, 0.2) is None  # its place is bare
+    assert memory.recall("red block", [_depth_over(top, 0.9)], grid, 0.3) is None  # never seen
+    assert memory.recall("blue block", [_depth_over(top, 0.9)], grid, 0.0) is None  # a reset

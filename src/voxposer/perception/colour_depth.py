@@ -9,9 +9,11 @@ its drawers' openings measured from depth, the table and the robot
 sliding directions) works on its labelled cloud as on the ground-truth one.
 
 The objects it knows are those it has seen: every object found in some observation since it was
-made stays nameable (an object the gripper hides for a while is still there), and ``detect``
-of one not seen now raises :class:`~voxposer.errors.ObjectNotVisibleError`; a name never seen
-raises :class:`~voxposer.errors.UnknownObjectError`.
+made stays nameable (an object the gripper hides for a while is still there); ``detect`` of a block
+or line no camera sees now gives it where it was last seen when other objects cover that place
+(the occlusion memory's recall), and otherwise raises
+:class:`~voxposer.errors.ObjectNotVisibleError`; a name never seen raises
+:class:`~voxposer.errors.UnknownObjectError`.
 """
 
 from __future__ import annotations
@@ -122,7 +124,9 @@ class ColourDepthPerceiver:
 
         Raises:
             UnknownObjectError: the name matches no object seen (lists them).
-            ObjectNotVisibleError: the object was seen before but no camera sees it now.
+            ObjectNotVisibleError: the object was seen before but no camera sees it now, and
+                it is not recalled as hidden where it was
+                (:meth:`~voxposer.perception.occlusion_memory.OcclusionMemory.recall`).
         """
         canonical = match_name(name, self.object_names)
         cloud = self.point_cloud()
@@ -132,11 +136,20 @@ class ColourDepthPerceiver:
         labels = np.asarray([k for k, n in enumerate(_LABEL_NAMES) if n in members],
                             dtype=np.int32)
         kind = catalog.object_named(canonical).kind
-        found = detect_in_cloud(cloud, labels, canonical, self._grid,
-                                horizontal_normal=kind in catalog.SLIDING_KINDS)
-        if kind in REMEMBERED_KINDS:
+        try:
+            found = detect_in_cloud(cloud, labels, canonical, self._grid,
+                                    horizontal_normal=kind in catalog.SLIDING_KINDS)
+        except ObjectNotVisibleError:  # wholly hidden: where it was, if something covers it
             obs = self.observe()
-            found = self._memory.extend(found, obs.cameras, self._grid, obs.time)
+            recalled = (self._memory.recall(canonical, obs.cameras, self._grid, obs.time)
+                        if kind in REMEMBERED_KINDS else None)
+            if recalled is None:
+                raise
+            found = recalled
+        else:
+            if kind in REMEMBERED_KINDS:
+                obs = self.observe()
+                found = self._memory.extend(found, obs.cameras, self._grid, obs.time)
         self._detections[canonical] = found
         return found
 

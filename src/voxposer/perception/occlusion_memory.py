@@ -15,6 +15,12 @@ camera's image is dropped. An object that moved (:func:`is_still`) forgets every
 carrying a block hides the block's old places all the way. The cost: a hidden point within about ``depth_tol_m`` of the occluder's
 edge, seen at a grazing angle, is lost.
 
+An object no camera sees at all now (a block under the hand that is about to push it) is
+recalled whole (:meth:`OcclusionMemory.recall`) when at least ``RECALL_FRACTION`` of the points
+it had are hidden behind other objects by the same rule — it is where it was, covered — and not
+when the cameras see through its place (it left). The fraction, not every point: the sensor
+model drops depth at an occluder's edges and on dark surfaces, which reads as seeing through.
+
 Only objects that keep their shape and lie where they were left take part (blocks and lines): a
 drawer, a fixture or the robot change what hides them in ways these rules do not cover.
 """
@@ -39,6 +45,9 @@ DEPTH_TOL_M = 0.01
 #: (and hides its old places) leaves no trail of stale points.
 STILL_FRACTION = 0.9
 STILL_TOL_M = 0.002
+#: An object wholly unseen now is recalled when at least this fraction of its remembered points
+#: are hidden behind other objects.
+RECALL_FRACTION = 0.5
 #: Kinds of objects (:data:`voxposer.catalog.Kind`) whose hidden parts are remembered.
 REMEMBERED_KINDS = frozenset({"block", "line"})
 
@@ -151,11 +160,28 @@ class OcclusionMemory:
         self._held[found.name] = (points, normals)
         return found
 
+    def recall(self, name: str, views: Sequence[DepthView], grid: VoxelGrid, time_s: float
+               ) -> DetectedObject | None:
+        """``name`` as last seen, when no camera sees any of it in ``views`` (observed at
+        ``time_s`` [s]) and at least :data:`RECALL_FRACTION` of its remembered points are hidden
+        behind other objects (module docs); None otherwise (never seen, it left, or a reset).
+        What is remembered does not change."""
+        if time_s < self._time_s:
+            self.forget()
+        self._time_s = time_s
+        before = self._held.get(name)
+        if before is None or len(before[0]) == 0:
+            return None
+        hidden = hidden_by_others(before[0], np.zeros((0, 3)), views, self.depth_tol_m)
+        if float(np.mean(hidden)) < RECALL_FRACTION:
+            return None
+        return object_from_points(name, before[0], before[1], grid)
+
     def forget(self) -> None:
         """Drop everything remembered (a new scene)."""
         self._held.clear()
         self._time_s = -np.inf
 
 
-__all__ = ["DEPTH_TOL_M", "REMEMBERED_KINDS", "STILL_FRACTION", "STILL_TOL_M", "OcclusionMemory",
+__all__ = ["DEPTH_TOL_M", "RECALL_FRACTION", "REMEMBERED_KINDS", "STILL_FRACTION", "STILL_TOL_M", "OcclusionMemory",
            "hidden_by_others", "is_still"]
