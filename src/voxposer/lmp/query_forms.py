@@ -11,6 +11,12 @@
   (:mod:`voxposer.lmp.descriptions`, ``LMPConfig.whole_descriptions``), recorded as a
   ``description_completed`` event; worked out once per (description, calling query), not at
   every replan (map programs re-run each one).
+- A stand-in: a ``parse_query_obj`` query a map program wrote that names a coloured object the
+  scene lacks ("blue block", the examples' name, in a program for "the back side of the yellow
+  block") is asked for the one scene object of that kind its calling query names
+  (``LMPConfig.object_stand_in``), recorded as an ``object_substituted`` event: a name neither
+  the scene nor the query holds cannot be what the program meant (dev records: retries of map
+  programs that wrote the examples' block ended the run with an unknown object).
 - A speed the other way: a velocity map whose set scales all go against its query's words
   gets the words' factor there (:func:`~voxposer.lmp.checks.corrected_speed`,
   ``LMPConfig.correct_speed_direction``), recorded as a ``speed_corrected`` event; a query
@@ -19,11 +25,13 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
+from voxposer.catalog import COLOR_NAMES
 from voxposer.lmp.checks import corrected_speed
 from voxposer.lmp.descriptions import whole_description
 from voxposer.lmp.prompt import QUERY_PREFIX, RETRY_PREFIX
@@ -73,6 +81,11 @@ class QueryForms:
         self.transcript.write("resolved", lmp=lmp, query=query, name=exact)
         return f"ret_val = detect({exact!r})"
 
+    def rewritten(self, lmp: str, query: str, context: str) -> str:
+        """``lmp(query)`` as asked from a program whose own query is ``context``: made whole,
+        then a stand-in for an absent object (module docs)."""
+        return self.stand_in(lmp, self.whole(lmp, query, context), context)
+
     def whole(self, lmp: str, query: str, context: str) -> str:
         """``query`` made whole from the calling program's query ``context`` (module docs)."""
         if lmp != "parse_query_obj" or not context or not self.config.whole_descriptions:
@@ -84,6 +97,24 @@ class QueryForms:
                 self.transcript.write("description_completed", query=query, whole=whole,
                                       context=context)
         return whole
+
+    def stand_in(self, lmp: str, query: str, context: str) -> str:
+        """``query`` or, when it names a coloured object the scene lacks, the one scene object
+        of that kind (its last word) the calling ``context`` names (module docs)."""
+        if lmp != "parse_query_obj" or not context or not self.config.object_stand_in:
+            return query
+        words = normalize_name(query).split()
+        names = self._names()
+        if len(words) != 2 or words[0] not in COLOR_NAMES \
+                or any(normalize_name(n) == " ".join(words) for n in names):
+            return query
+        said = f" {normalize_name(context)} "
+        named = [n for n in names if normalize_name(n).split()[-1:] == words[-1:]
+                 and re.search(rf"\b{re.escape(normalize_name(n))}\b", said)]
+        if len(named) != 1:
+            return query
+        self.transcript.write("object_substituted", query=query, name=named[0], context=context)
+        return named[0]
 
     def speed(self, lmp: str, query: str, velocity: Any, *, record: bool) -> Any:
         """``velocity`` (a checked velocity map) turned to its query's direction when it goes

@@ -109,6 +109,9 @@ class LMPConfig:
         whole_descriptions: a ``parse_query_obj`` description cut short by the program
             calling it ("third block" in "the left of the third block from the right") gets
             the relational tail back (:mod:`voxposer.lmp.descriptions`).
+        object_stand_in: a ``parse_query_obj`` query naming a coloured object the scene
+            lacks is asked for the one scene object of that kind the calling query names
+            (:meth:`~voxposer.lmp.query_forms.QueryForms.stand_in`).
         keep_instruction_speed: a sub-task whose speed asks the opposite of the
             instruction's ("faster" planned for "a quarter of the speed") gets the
             instruction's speed phrase (:func:`~voxposer.lmp.plan_conditions.keep_instruction_speed`).
@@ -141,6 +144,7 @@ class LMPConfig:
     hover_over: bool = True
     correct_speed_direction: bool = True
     whole_descriptions: bool = True
+    object_stand_in: bool = True
     keep_instruction_speed: bool = True
     derived_conditions: bool = True
     resolve_exact_names: bool = True

@@ -269,14 +269,14 @@ class LMPRuntime:
     def _eager(self, lmp: str, context: str = "") -> Any:
         def call(query: str) -> Any:
             with suspend_time_limit():
-                return self.query(lmp, self.forms.whole(lmp, str(query), context))
+                return self.query(lmp, self.forms.rewritten(lmp, str(query), context))
         call.__name__ = lmp
         return call
 
     def _lazy(self, lmp: str, context: str = "") -> Any:
         def call(query: str) -> ValueMapProgram:
             with suspend_time_limit():
-                return self.program(lmp, self.forms.whole(lmp, str(query), context))
+                return self.program(lmp, self.forms.rewritten(lmp, str(query), context))
         call.__name__ = lmp
         return call
 
