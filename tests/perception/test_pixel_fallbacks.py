@@ -1,5 +1,6 @@
-"""The pixel perception's two hard cases: a gray block touching the gray robot (tracked from
-where it was), and a noisy table inside the box of an absent cabinet (not a cabinet)."""
+"""The pixel perception's hard cases: a gray block touching the gray robot (tracked from where
+it was), a block on its own colour's noisy line (told apart by height), and a noisy table
+inside the box of an absent cabinet (not a cabinet)."""
 
 from __future__ import annotations
 
@@ -33,6 +34,21 @@ def test_a_gray_block_in_the_gripper_is_tracked_from_where_it_was() -> None:
     centre = points[found["gray block"]].mean(axis=0)
     assert np.linalg.norm(centre - [0.1, -0.1, 0.025]) < 0.01
     assert np.count_nonzero(found["gray block"] >= len(block)) < 0.1 * len(block)  # few finger
+
+
+def test_a_block_on_its_own_colours_noisy_line_is_still_a_block() -> None:
+    rng = np.random.default_rng(3)
+    block = _cube((0.0, 0.0, 0.025), rng)
+    # a 20 cm green line along y under it, its paint lifted 0-12 mm by depth noise
+    line = np.column_stack([rng.uniform(-0.006, 0.006, 800), rng.uniform(-0.1, 0.1, 800),
+                            np.abs(rng.normal(0.0, 0.006, 800))])
+    points = np.vstack([block, line])
+    colours = np.full(len(points), 1, dtype=np.int32)  # one colour word for both
+    found = find_blocks_and_lines(points, colours)
+    got = points[found["green block"]]
+    assert np.linalg.norm(got[:, :2].mean(axis=0)) < 0.01 and np.ptp(got[:, 1]) < 0.07
+    line_pts = points[found["green line"]]
+    assert np.ptp(line_pts[:, 1]) > 0.12  # the line's two ends, either side of the block
 
 
 def test_a_block_far_from_its_prior_is_not_made_up() -> None:

@@ -28,6 +28,8 @@ from voxposer.perception.colour_names import GRAY
 
 #: Points below this height [m] lie flat on the table (a line's top is at 2 mm).
 FLAT_Z_M: Final = 0.005
+#: Points above this height [m] belong to a block, never to a line, whatever the depth noise.
+CORE_Z_M: Final = 0.02
 #: A block's box is at most this large along any axis [m] (a 5 cm cube seen from any side).
 BLOCK_MAX_EXTENT_M: Final = 0.09
 #: Fewest points of a block's main cluster and of any line fragment.
@@ -71,9 +73,30 @@ def _block_members(points: NDArray[np.float64], raised: NDArray[np.bool_], gray:
                    ) -> NDArray[np.bool_]:
     """Which of one colour's ``points`` (shape (N, 3)) are its block: the largest compact
     cluster of the raised points, touching fragments, and flat points under its footprint.
-    For ``gray`` the cluster must also be broad (:data:`GRAY_MIN_SPAN_M`), not a finger."""
+    For ``gray`` the cluster must also be broad (:data:`GRAY_MIN_SPAN_M`), not a finger.
+    When no raised cluster is compact — a block on its own colour's line, whose paint the depth
+    noise lifts above :data:`FLAT_Z_M` along its length and joins to the block — the cluster
+    is looked for among the points above :data:`CORE_Z_M` instead, and every point under its
+    footprint below that height joins it."""
+    members = _compact_cluster(points, raised, gray)
+    low = FLAT_Z_M
+    if not members.any():
+        members = _compact_cluster(points, raised & (points[:, 2] >= CORE_Z_M), gray)
+        low = CORE_Z_M
+    if not members.any():
+        return members
+    block = points[members]
+    lo, hi = block.min(axis=0)[:2] - 0.006, block.max(axis=0)[:2] + 0.006
+    under = (points[:, 2] < low) & np.all((points[:, :2] >= lo) & (points[:, :2] <= hi), axis=1)
+    return members | under
+
+
+def _compact_cluster(points: NDArray[np.float64], subset: NDArray[np.bool_], gray: bool
+                     ) -> NDArray[np.bool_]:
+    """The largest compact (for ``gray`` also broad) cluster of ``points[subset]`` with the
+    fragments that touch it and keep it compact, as a mask over ``points`` (empty: none)."""
     members = np.zeros(len(points), dtype=bool)
-    idx = np.flatnonzero(raised)
+    idx = np.flatnonzero(subset)
     clusters = cluster_points(points[idx])
     main = None
     for k in range(clusters.n_clusters):
@@ -91,10 +114,7 @@ def _block_members(points: NDArray[np.float64], raised: NDArray[np.bool_], gray:
         pts = points[idx[clusters.labels == k]]
         if k == main or (box_gap(core, pts) <= FRAGMENT_GAP_M and _compact(np.vstack([core, pts]))):
             members[idx[clusters.labels == k]] = True
-    block = points[members]
-    lo, hi = block.min(axis=0)[:2] - 0.006, block.max(axis=0)[:2] + 0.006
-    under = ~raised & np.all((points[:, :2] >= lo) & (points[:, :2] <= hi), axis=1)
-    return members | under
+    return members
 
 
 def _tracked_members(points: NDArray[np.float64], raised: NDArray[np.bool_],
