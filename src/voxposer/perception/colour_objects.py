@@ -77,10 +77,11 @@ def _block_members(points: NDArray[np.float64], raised: NDArray[np.bool_], gray:
     When no raised cluster is compact — a block on its own colour's line, whose paint the depth
     noise lifts above :data:`FLAT_Z_M` along its length and joins to the block — the cluster
     is looked for among the points above :data:`CORE_Z_M` instead, and every point under its
-    footprint below that height joins it."""
+    footprint below that height joins it (not for gray, whose raised points include the
+    robot's: a gray block is tracked from where it was instead)."""
     members = _compact_cluster(points, raised, gray)
     low = FLAT_Z_M
-    if not members.any():
+    if not members.any() and not gray:  # gray: the robot's raised points too (tracked instead)
         members = _compact_cluster(points, raised & (points[:, 2] >= CORE_Z_M), gray)
         low = CORE_Z_M
     if not members.any():
