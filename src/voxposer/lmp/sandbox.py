@@ -169,14 +169,16 @@ def suspend_time_limit() -> Iterator[None]:
     """
     stack = _deadlines()
     start, memory = time.monotonic(), sandbox_memory.resident_bytes()
+    heap = sandbox_memory.heap_bytes()
     stack.append(None)
     try:
         yield
     finally:
         stack.pop()
-        after = sandbox_memory.resident_bytes()
-        if memory is not None and after is not None:
-            sandbox_memory.discount(after - memory)
+        after, heap_after = sandbox_memory.resident_bytes(), sandbox_memory.heap_bytes()
+        sandbox_memory.discount(after - memory if memory is not None and after is not None else 0,
+                                heap_after - heap if heap is not None and heap_after is not None
+                                else 0)
         spent = time.monotonic() - start
         for i, deadline in enumerate(stack):
             if deadline is not None:

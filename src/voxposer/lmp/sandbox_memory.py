@@ -3,14 +3,18 @@
 Size checks see one allocation at a time; many small ones (``[[0] * 10**4 for _ in
 range(10**5)]``) add up unseen. While generated code runs, the tracer calls :func:`check` every
 :data:`EVERY` lines; it reads the process's resident memory (``/proc/self/statm``, a few µs) and
-raises a :class:`~voxposer.errors.SandboxError` once it exceeds the run's start by more than the
-sandbox's byte budget. Memory that trusted callbacks take (inside ``suspend_time_limit``: a
+the C heap's bytes in use (glibc's ``mallinfo2``, where there is one), and raises a
+:class:`~voxposer.errors.SandboxError` once either exceeds the run's start by more than the
+sandbox's byte budget. Resident memory alone misses allocations that reuse memory the process
+freed earlier and kept (a long-lived process: a test run, a benchmark worker): the heap's
+bytes in use count them. Memory that trusted callbacks take (inside ``suspend_time_limit``: a
 nested LLM call loading a model) is not counted. Where ``/proc`` is missing the watch is off;
 ``SandboxConfig(isolation="process")`` adds an OS limit on top.
 """
 
 from __future__ import annotations
 
+import ctypes
 import os
 import threading
 from typing import Final
@@ -32,8 +36,36 @@ def resident_bytes() -> int | None:
         return None
 
 
+class _MallInfo2(ctypes.Structure):
+    _fields_ = [(name, ctypes.c_size_t) for name in (
+        "arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks", "fsmblks", "uordblks",
+        "fordblks", "keepcost")]
+
+
+def _mallinfo2() -> ctypes._CFuncPtr | None:  # type: ignore[name-defined]
+    try:
+        fn = ctypes.CDLL(None).mallinfo2
+    except (OSError, AttributeError):
+        return None
+    fn.restype = _MallInfo2
+    return fn
+
+
+_MALLINFO2: Final = _mallinfo2()
+
+
+def heap_bytes() -> int | None:
+    """Bytes the C heap has in use (glibc's ``mallinfo2``: small blocks and mmapped ones);
+    None where it is not available."""
+    if _MALLINFO2 is None:
+        return None
+    info = _MALLINFO2()
+    return int(info.uordblks + info.hblkhd)
+
+
 def _state() -> list[list[int]]:
-    """Per thread: one [start bytes, budget bytes, line counter] per running execution."""
+    """Per thread: one [start resident bytes, budget bytes, line counter, start heap bytes]
+    per running execution."""
     if not hasattr(_local, "runs"):
         _local.runs = []
     return _local.runs
@@ -41,8 +73,9 @@ def _state() -> list[list[int]]:
 
 def start(budget_bytes: int) -> None:
     """A sandboxed execution begins: remember where memory stands."""
-    now = resident_bytes()
-    _state().append([now if now is not None else -1, int(budget_bytes), 0])
+    now, heap = resident_bytes(), heap_bytes()
+    _state().append([now if now is not None else -1, int(budget_bytes), 0,
+                     heap if heap is not None else -1])
 
 
 def stop() -> None:
@@ -59,18 +92,33 @@ def check() -> None:
         return
     run = runs[-1]
     run[2] += 1
-    if run[0] < 0 or run[2] % EVERY:
+    if run[2] % EVERY:
         return
-    now = resident_bytes()
-    if now is not None and now - run[0] > run[1]:
-        grown, run[0] = now - run[0], now  # raise once; the frames unwind
+    grown = max(_grown(run, 0, resident_bytes()), _grown(run, 3, heap_bytes()))
+    if grown > run[1]:
+        run[0], run[3] = _now(resident_bytes()), _now(heap_bytes())  # raise once; frames unwind
         raise SandboxError(
             f"memory limit: the generated code took {grown / 2**20:,.0f} MiB more than at its "
             f"start; the sandbox allows {run[1] / 2**20:,.0f} MiB in all")
 
 
-def discount(grown_bytes: int) -> None:
-    """Leave ``grown_bytes`` (what trusted code took meanwhile) out of every running budget."""
+def _grown(run: list[int], k: int, now: int | None) -> int:
+    """Growth of measure ``k`` of ``run`` since its start (0 where it is not measured)."""
+    return 0 if now is None or run[k] < 0 else now - run[k]
+
+
+def _now(value: int | None) -> int:
+    return value if value is not None else -1
+
+
+def discount(grown_bytes: int, heap_grown_bytes: int | None = None) -> None:
+    """Leave what trusted code took meanwhile out of every running budget: ``grown_bytes`` of
+    resident memory and ``heap_grown_bytes`` of the C heap (None: the same as resident)."""
+    heap = grown_bytes if heap_grown_bytes is None else heap_grown_bytes
     for run in _state():
         if run[0] >= 0:
             run[0] += grown_bytes
+        if run[3] >= 0:
+            run[3] += heap
+
+
