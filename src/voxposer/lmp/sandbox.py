@@ -169,13 +169,14 @@ def suspend_time_limit() -> Iterator[None]:
     """
     stack = _deadlines()
     start, memory = time.monotonic(), sandbox_memory.resident_bytes()
-    heap = sandbox_memory.heap_bytes()
+    heap = sandbox_memory.heap_bytes() if sandbox_memory.watching_heap() else None
     stack.append(None)
     try:
         yield
     finally:
         stack.pop()
-        after, heap_after = sandbox_memory.resident_bytes(), sandbox_memory.heap_bytes()
+        after = sandbox_memory.resident_bytes()
+        heap_after = sandbox_memory.heap_bytes() if heap is not None else None
         sandbox_memory.discount(after - memory if memory is not None and after is not None else 0,
                                 heap_after - heap if heap is not None and heap_after is not None
                                 else 0)

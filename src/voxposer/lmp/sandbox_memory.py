@@ -65,17 +65,17 @@ def heap_bytes() -> int | None:
 
 def _state() -> list[list[int]]:
     """Per thread: one [start resident bytes, budget bytes, line counter, start heap bytes]
-    per running execution."""
+    per running execution (-1: not measured; the heap's start is read at the run's first
+    check, see :func:`check`)."""
     if not hasattr(_local, "runs"):
         _local.runs = []
     return _local.runs
 
 
 def start(budget_bytes: int) -> None:
-    """A sandboxed execution begins: remember where memory stands."""
-    now, heap = resident_bytes(), heap_bytes()
-    _state().append([now if now is not None else -1, int(budget_bytes), 0,
-                     heap if heap is not None else -1])
+    """A sandboxed execution begins: remember where resident memory stands."""
+    now = resident_bytes()
+    _state().append([now if now is not None else -1, int(budget_bytes), 0, -1])
 
 
 def stop() -> None:
@@ -86,7 +86,13 @@ def stop() -> None:
 
 
 def check() -> None:
-    """Called per traced line; every :data:`EVERY` lines compares memory with the budget."""
+    """Called per traced line; every :data:`EVERY` lines compares memory with the budget.
+
+    The heap is first read at the run's first check, not at its start: ``mallinfo2`` walks
+    the heap's free lists (milliseconds in a long-lived, fragmented process), and most
+    generated programs (the map programs re-run at every replan) end before :data:`EVERY`
+    lines, so they never pay for it; what the first lines took is missed by the heap measure
+    only."""
     runs = _state()
     if not runs:
         return
@@ -94,31 +100,39 @@ def check() -> None:
     run[2] += 1
     if run[2] % EVERY:
         return
-    grown = max(_grown(run, 0, resident_bytes()), _grown(run, 3, heap_bytes()))
+    rss, heap = resident_bytes(), heap_bytes()
+    grown = max(_grown(run[0], rss), _grown(run[3], heap))
+    if run[3] < 0 and heap is not None:
+        run[3] = heap
     if grown > run[1]:
-        run[0], run[3] = _now(resident_bytes()), _now(heap_bytes())  # raise once; frames unwind
+        run[0], run[3] = _now(rss), _now(heap)  # raise once; the frames unwind
         raise SandboxError(
             f"memory limit: the generated code took {grown / 2**20:,.0f} MiB more than at its "
             f"start; the sandbox allows {run[1] / 2**20:,.0f} MiB in all")
 
 
-def _grown(run: list[int], k: int, now: int | None) -> int:
-    """Growth of measure ``k`` of ``run`` since its start (0 where it is not measured)."""
-    return 0 if now is None or run[k] < 0 else now - run[k]
+def _grown(start_bytes: int, now: int | None) -> int:
+    """Growth since ``start_bytes`` (0 where either is not measured)."""
+    return 0 if now is None or start_bytes < 0 else now - start_bytes
 
 
 def _now(value: int | None) -> int:
     return value if value is not None else -1
 
 
-def discount(grown_bytes: int, heap_grown_bytes: int | None = None) -> None:
+def watching_heap() -> bool:
+    """Whether some running execution measures the heap (then trusted code's heap growth must
+    be read, to be discounted)."""
+    return any(run[3] >= 0 for run in _state())
+
+
+def discount(grown_bytes: int, heap_grown_bytes: int) -> None:
     """Leave what trusted code took meanwhile out of every running budget: ``grown_bytes`` of
-    resident memory and ``heap_grown_bytes`` of the C heap (None: the same as resident)."""
-    heap = grown_bytes if heap_grown_bytes is None else heap_grown_bytes
+    resident memory and ``heap_grown_bytes`` of the C heap."""
     for run in _state():
         if run[0] >= 0:
             run[0] += grown_bytes
         if run[3] >= 0:
-            run[3] += heap
+            run[3] += heap_grown_bytes
 
 
