@@ -9,14 +9,15 @@
 - A whole description: a ``parse_query_obj`` description the calling program cut short
   ("third block" in "… the third block from the right") gets its relational tail back
   (:mod:`voxposer.lmp.descriptions`, ``LMPConfig.whole_descriptions``), recorded as a
-  ``description_completed`` event; worked out once per (description, calling query), not at
-  every replan (map programs re-run each one).
+  ``description_completed`` event.
 - A stand-in: a ``parse_query_obj`` query a map program wrote that names a coloured object the
   scene lacks ("blue block", the examples' name, in a program for "the back side of the yellow
   block") is asked for the one scene object of that kind its calling query names
   (``LMPConfig.object_stand_in``), recorded as an ``object_substituted`` event: a name neither
   the scene nor the query holds cannot be what the program meant (dev records: retries of map
-  programs that wrote the examples' block ended the run with an unknown object).
+  programs that wrote the examples' block ended the run with an unknown object). Both are
+  worked out once per (query, calling query) (:meth:`QueryForms.rewritten`), not at every
+  replan (map programs re-run each one).
 - A speed the other way: a velocity map whose set scales all go against its query's words
   gets the words' factor there (:func:`~voxposer.lmp.checks.corrected_speed`,
   ``LMPConfig.correct_speed_direction``), recorded as a ``speed_corrected`` event; a query
@@ -66,7 +67,8 @@ class QueryForms:
         self.config = config
         self._names = object_names
         self.transcript = transcript
-        self._wholes: dict[tuple[str, str], str] = {}
+        #: (query, calling query) → the query :meth:`rewritten` asks
+        self._rewritten: dict[tuple[str, str], str] = {}
         self._speed_agrees: set[str] = set()
 
     def exact_code(self, lmp: str, query: str) -> str | None:
@@ -83,19 +85,23 @@ class QueryForms:
 
     def rewritten(self, lmp: str, query: str, context: str) -> str:
         """``lmp(query)`` as asked from a program whose own query is ``context``: made whole,
-        then a stand-in for an absent object (module docs)."""
-        return self.stand_in(lmp, self.whole(lmp, query, context), context)
+        then a stand-in for an absent object (module docs). Worked out once per (query,
+        context), each change recorded then: map programs re-run at every replan."""
+        if lmp != "parse_query_obj" or not context:
+            return query
+        if (done := self._rewritten.get((query, context))) is None:
+            done = self.stand_in(lmp, self.whole(lmp, query, context), context)
+            self._rewritten[(query, context)] = done
+        return done
 
     def whole(self, lmp: str, query: str, context: str) -> str:
         """``query`` made whole from the calling program's query ``context`` (module docs)."""
         if lmp != "parse_query_obj" or not context or not self.config.whole_descriptions:
             return query
-        if (whole := self._wholes.get((query, context))) is None:
-            whole = whole_description(query, context, self._names())
-            self._wholes[(query, context)] = whole
-            if whole != query:
-                self.transcript.write("description_completed", query=query, whole=whole,
-                                      context=context)
+        whole = whole_description(query, context, self._names())
+        if whole != query:
+            self.transcript.write("description_completed", query=query, whole=whole,
+                                  context=context)
         return whole
 
     def stand_in(self, lmp: str, query: str, context: str) -> str:
