@@ -7,9 +7,9 @@ corner of the table; stay away from the green block" planned as ``composer('push
 block to the front right corner of the table')`` with ``expect(away('yellow block', 'green
 block'))`` (dev records, ``benchmarks/results/dev-2026-12-06/``: 3 of 6 staying-away pushes).
 The composer never reads the post-condition, so no avoidance map is built and the path goes
-where it likes; the run then fails its own condition. The plan's own condition says what the words lack, in whatever words
-the instruction used, so :func:`carry_stated_constraints` gives the sub-task the words the
-composer's examples read:
+where it likes; the run then fails its own condition. The plan's own condition says what the
+words lack, in whatever words the instruction used, so :func:`carry_stated_constraints` gives
+the sub-task the words the composer's examples read:
 
 - ``away('gripper', <object>, cm=<n>)`` under a motion of the hand whose words keep no distance
   from that object: "… while staying at least <n>cm from the <object>" (without ``cm``, "…
@@ -145,8 +145,8 @@ def _speed_words(call: ast.Call, subtask: str, instruction: str,
 
 def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ...] | list[str]
                              ) -> tuple[str, list[str]] | None:
-    """``code`` with each hand motion or push given the words of the constraints its post-conditions
-    state and its words lack (module docs), and the sub-tasks so changed; None when the plan
+    """``code`` with each hand motion or push given the words of the constraints its
+    post-conditions state and its words lack (module docs), and the sub-tasks so changed; None when the plan
     needs nothing. ``objects``: the scene's object names."""
     steps = plain_steps(code)
     if not steps:
