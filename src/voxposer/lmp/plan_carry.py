@@ -146,8 +146,8 @@ def _speed_words(call: ast.Call, subtask: str, instruction: str,
 def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ...] | list[str]
                              ) -> tuple[str, list[str]] | None:
     """``code`` with each hand motion or push given the words of the constraints its
-    post-conditions state and its words lack (module docs), and the sub-tasks so changed; None when the plan
-    needs nothing. ``objects``: the scene's object names."""
+    post-conditions state and its words lack (module docs), and the sub-tasks so changed; None
+    when the plan needs nothing. ``objects``: the scene's object names."""
     steps = plain_steps(code)
     if not steps:
         return None

@@ -183,5 +183,13 @@ class OcclusionMemory:
         self._time_s = -np.inf
 
 
-__all__ = ["DEPTH_TOL_M", "RECALL_FRACTION", "REMEMBERED_KINDS", "STILL_FRACTION", "STILL_TOL_M", "OcclusionMemory",
-           "hidden_by_others", "is_still"]
+__all__ = [
+    "DEPTH_TOL_M",
+    "RECALL_FRACTION",
+    "REMEMBERED_KINDS",
+    "STILL_FRACTION",
+    "STILL_TOL_M",
+    "OcclusionMemory",
+    "hidden_by_others",
+    "is_still",
+]
