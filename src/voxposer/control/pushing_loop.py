@@ -1,7 +1,8 @@
 """Closed-loop execution when the entity is an object or a part: plan its path, push, repeat.
 
 Each step observes the scene, re-evaluates the entity and the maps, plans the object's path
-(its own points are not obstacles; the table is not one either, it slides on it), chooses a push
+(its own points are not obstacles; the table is not one either, it slides on it; a sliding
+part's joint alone sets its travel, so nothing is an obstacle to it), chooses a push
 by random-shooting MPC (:func:`voxposer.planning.mpc.random_shooting`) and executes the
 pushing primitive. It stops when the object reaches the target, when a sliding part (a drawer)
 no longer moves although pushed toward the target (the end of its travel: a drawer closed
@@ -141,17 +142,22 @@ def _plan_object(loop: LoopHost, name: str, entity: Any, values: dict[str, Any],
                  sliding: bool) -> Any:
     """The object's path from its detected centre to the affordance target (its own points and
     the table are no obstacles); a free object's path stays at its height, its target brought
-    there (:mod:`voxposer.control.table_layer`)."""
+    there (:mod:`voxposer.control.table_layer`). A sliding part's has no obstacles: what lies
+    ahead of a drawer's handle is its own cabinet, and with noisy depth the cabinet's unlabelled
+    edge points lie over the handle, turning its path (and the push) away from the target."""
     centre = np.asarray(entity["position"], dtype=np.float64)
     affordance = values["affordance_map"]
     layer = None if sliding else float(centre[2])
     if layer is not None:
         affordance = onto_layer(loop.perceiver.grid, affordance, layer)
+    occupancy = loop.perceiver.scene_occupancy(name, holding=False, ignore_table=True)
+    if sliding:
+        occupancy = np.zeros_like(occupancy)
     return loop.object_planner.plan(
         affordance,
         centre,
         avoidance_map=values["avoidance_map"],
-        occupancy=loop.perceiver.scene_occupancy(name, holding=False, ignore_table=True),
+        occupancy=occupancy,
         entity_occupancy=entity["occupancy"],
         layer_z=layer,
     )
@@ -204,6 +210,14 @@ def top_down_quat(hand_axis: NDArray[np.float64], azimuth: float = 0.0) -> NDArr
     return np.asarray(q if q[3] >= 0 else -q, dtype=np.float64)
 
 
+def side_push_quat(direction: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Hand orientation (x, y, z, w) for pushing a part (a drawer's handle) along ``direction``
+    (a table-plane direction, shape (3,)): the hand points along the push with its long
+    (finger) axis level, across the push. With that axis upright the 21 cm hand stands on the
+    table before the hand reaches a bottom drawer's handle (its centre ~10 cm up at best)."""
+    return pointat2quat(direction, fingers=np.cross([0.0, 0.0, 1.0], direction))
+
+
 #: Fingertips below the end-effector point plus a margin: how far above an object's top the
 #: end effector travels between pushes [m].
 TOP_CLEARANCE_M = 0.033
@@ -217,14 +231,15 @@ def push(robot: Robot, action: PushAction, sideways: bool, object_top: float | N
     ``action.hand_axis``, and the hand travels between pushes just above the object's top
     (``object_top`` [m]; no higher than needed: right in front of the base the arm cannot hold
     its hand top-down much above 8 cm). Parts (drawers) are pushed with the hand pointing along
-    the push, so the forearm stays clear of the cabinet. The gripper is closed first.
+    the push, so the forearm stays clear of the cabinet, its fingers level
+    (:func:`side_push_quat`). The gripper is closed first.
 
     Returns:
         the robot's result of each of the five moves (``reached``, ``position_error`` [m]).
     """
     reach = action.contact[:2] - robot.base_position[:2]
     azimuth = float(np.arctan2(reach[1], reach[0]))
-    quat = pointat2quat(action.direction) if sideways else top_down_quat(action.hand_axis, azimuth)
+    quat = side_push_quat(action.direction) if sideways else top_down_quat(action.hand_axis, azimuth)
     robot.close_gripper()
     lift = {} if sideways or object_top is None else {
         "lift_height_m": max(0.03, object_top + TOP_CLEARANCE_M - float(action.contact[2]))}

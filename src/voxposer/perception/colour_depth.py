@@ -35,7 +35,7 @@ from voxposer.perception.perceiver import ObservationSource
 from voxposer.perception.pixel_labels import PixelLabels, label_pixels
 from voxposer.perception.point_cloud import PointCloud
 from voxposer.perception.scene_occupancy import scene_occupancy
-from voxposer.perception.segmentation import dominant_normal
+from voxposer.perception.sliding_axis import drawer_front_normal
 
 log = logging.getLogger(__name__)
 
@@ -167,7 +167,7 @@ class ColourDepthPerceiver:
         if obj.kind not in catalog.SLIDING_KINDS:
             return None
         drawer = obj.parent if obj.kind == "handle" and obj.parent is not None else obj.name
-        return dominant_normal(np.asarray(self.detect(drawer).normals, dtype=np.float64))
+        return drawer_front_normal(self.detect, drawer)
 
 
 __all__ = ["ColourDepthPerceiver"]

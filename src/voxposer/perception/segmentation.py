@@ -19,6 +19,7 @@ from voxposer.perception.occlusion_memory import REMEMBERED_KINDS, OcclusionMemo
 from voxposer.perception.perceiver import ObservationSource
 from voxposer.perception.point_cloud import DepthView, PointCloud, fuse_views
 from voxposer.perception.scene_occupancy import scene_occupancy
+from voxposer.perception.sliding_axis import drawer_front_normal
 
 
 class SegmentationPerceiver:
@@ -96,8 +97,9 @@ class SegmentationPerceiver:
     def sliding_axis(self, name: str) -> NDArray[np.float64] | None:
         """The outward normal of the sliding part's front, seen by the cameras: a drawer (or
         the drawer of a handle) is pulled out along the normal of its front face. The front is
-        the dominant direction among the drawer's sideways-facing normals (:func:`dominant_normal`;
-        its side walls, visible once it is open, face 90° away and are left out)."""
+        the dominant direction among the drawer's sideways-facing normals on its handle's side
+        (:func:`~voxposer.perception.sliding_axis.drawer_front_normal`; its side walls,
+        visible once it is open, face 90° away and are left out)."""
         canonical = match_name(name, self.object_names)
         try:
             obj = catalog.object_named(canonical)
@@ -106,7 +108,7 @@ class SegmentationPerceiver:
         if obj.kind not in catalog.SLIDING_KINDS:
             return None
         drawer = obj.parent if obj.kind == "handle" and obj.parent is not None else obj.name
-        return dominant_normal(np.asarray(self.detect(drawer).normals, dtype=np.float64))
+        return drawer_front_normal(self.detect, drawer)
 
 
 def _in_catalog(name: str) -> bool:
@@ -116,31 +118,3 @@ def _in_catalog(name: str) -> bool:
     except KeyError:
         return False
     return True
-
-
-def dominant_normal(normals: NDArray[np.float64], cone_deg: float = 25.0, rounds: int = 3
-                    ) -> NDArray[np.float64] | None:
-    """The horizontal direction most of ``normals`` (shape (N, 3)) face, as a unit vector, shape
-    (3,): among the sideways-facing ones (|n_z| < 0.5), start from the most populated 10° sector
-    of azimuth, then ``rounds`` times take the mean of those within ``cone_deg`` of the last
-    estimate. None when no normal faces sideways."""
-    flat = normals[(np.linalg.norm(normals, axis=1) > 0.5) & (np.abs(normals[:, 2]) < 0.5)]
-    flat = flat * np.array([1.0, 1.0, 0.0])
-    if len(flat) == 0:
-        return None
-    flat /= np.linalg.norm(flat, axis=1, keepdims=True)
-    counts = np.bincount(((np.arctan2(flat[:, 1], flat[:, 0]) + np.pi) // np.radians(10.0))
-                         .astype(int) % 36, minlength=36)
-    peak = (int(np.argmax(counts)) + 0.5) * np.radians(10.0) - np.pi
-    estimate = np.array([np.cos(peak), np.sin(peak), 0.0])
-    for _ in range(rounds):
-        length = float(np.linalg.norm(estimate))
-        if length < 1e-9:
-            return None
-        estimate /= length
-        near = flat[flat @ estimate > np.cos(np.radians(cone_deg))]
-        if len(near) == 0:
-            break
-        estimate = near.mean(axis=0)
-    length = float(np.linalg.norm(estimate))
-    return estimate / length if length > 1e-9 else None

@@ -42,7 +42,7 @@ from voxposer.perception.open_vocab.tracker import MaskTracker
 from voxposer.perception.perceiver import ObservationSource
 from voxposer.perception.point_cloud import PointCloud
 from voxposer.perception.scene_occupancy import scene_occupancy
-from voxposer.perception.segmentation import dominant_normal
+from voxposer.perception.sliding_axis import dominant_normal, drawer_front_normal
 
 log = logging.getLogger(__name__)
 
@@ -241,8 +241,9 @@ class OpenVocabPerceiver:
             return None
         obj = catalog.object_named(canonical)
         drawer = obj.parent if obj.kind == "handle" and obj.parent in self.object_names else None
-        normals = self.detect(drawer or canonical).normals
-        return dominant_normal(np.asarray(normals, dtype=np.float64))
+        if drawer is not None:
+            return drawer_front_normal(self.detect, drawer)
+        return dominant_normal(np.asarray(self.detect(canonical).normals, dtype=np.float64))
 
 
 def _kind(name: str) -> str | None:
