@@ -66,6 +66,21 @@ def sample_pushes(points: NDArray[np.float64], rng: np.random.Generator, config:
     return PushBatch(contacts, directions, distances), side, ring
 
 
+def _outline_hits(points: NDArray[np.float64], cost_map: CostMap) -> NDArray[np.int64]:
+    """Predicted outline points [m], shape (S, K, 3), inside the scene's obstacles, per sample,
+    shape (S,). The scene's own voxels (``fine_obstacles``), not the planner's obstacles: those
+    also hold the avoidance map's kept-out core and everything outside the object's layer,
+    which the planned path of the object's *centre* keeps clear of (the centre is checked
+    against them). An outline counted against them made every push along a path that skirts
+    the core score worse than a 1 cm nudge, and the object stalled there."""
+    grid = cost_map.fine_grid
+    lo, res, top = grid.bounds_min, grid.resolution, np.asarray(grid.shape) - 1
+    flat = points.reshape(-1, 3)
+    vox = np.clip(((flat - lo) / res).astype(np.int64), 0, top)
+    inside = cost_map.fine_obstacles[vox[:, 0], vox[:, 1], vox[:, 2]]
+    return inside.reshape(points.shape[0], -1).sum(axis=1)
+
+
 def random_shooting(
     object_points: NDArray[np.float64],
     path: NDArray[np.float64],
@@ -111,10 +126,11 @@ def random_shooting(
         lo, res, top = grid.bounds_min, grid.resolution, np.asarray(grid.shape) - 1
         vox = np.clip(((predicted - lo) / res).astype(np.int64), 0, top)
         score += cfg.cost_weight * cost_map.cost[vox[:, 0], vox[:, 1], vox[:, 2]]
-        moved = prediction.points.reshape(-1, 3)
-        mvox = np.clip(((moved - lo) / res).astype(np.int64), 0, top)
-        hits = cost_map.obstacles[mvox[:, 0], mvox[:, 1], mvox[:, 2]].reshape(n, -1).sum(axis=1)
-        score += cfg.collision_weight * hits
+        score += cfg.collision_weight * _outline_hits(prediction.points, cost_map)
+        # the centre where the planner's path may not go (the avoidance core): as bad as the
+        # whole outline inside an obstacle
+        blocked = cost_map.obstacles[vox[:, 0], vox[:, 1], vox[:, 2]]
+        score += cfg.collision_weight * prediction.points.shape[1] * blocked
     along = np.zeros(n, dtype=bool)
     if cost_map is not None and axis is None:  # parts are pushed hand-first, not top-down
         score, along = add_hand_sweep(score, contacts, directions, distances, side, cost_map, cfg)
