@@ -150,9 +150,8 @@ def _plan_object(loop: LoopHost, name: str, entity: Any, values: dict[str, Any],
     layer = None if sliding else float(centre[2])
     if layer is not None:
         affordance = onto_layer(loop.perceiver.grid, affordance, layer)
-    occupancy = loop.perceiver.scene_occupancy(name, holding=False, ignore_table=True)
-    if sliding:
-        occupancy = np.zeros_like(occupancy)
+    occupancy = None if sliding else loop.perceiver.scene_occupancy(
+        name, holding=False, ignore_table=True)
     return loop.object_planner.plan(
         affordance,
         centre,
