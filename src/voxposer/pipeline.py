@@ -31,6 +31,7 @@ from voxposer.perception.noisy_source import NoisyObservationSource, seed_from_s
 from voxposer.perception.perceiver import Perceiver
 from voxposer.perception.segmentation import SegmentationPerceiver
 from voxposer.perception.sensor_noise import SensorNoiseConfig
+from voxposer.perception.view_registration import RegisteredObservationSource
 from voxposer.planning.dynamics import DynamicsModel
 from voxposer.robot import Robot
 
@@ -57,14 +58,16 @@ def use_perception(name: str) -> None:
 
 
 def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig | None = None,
-                        seed: int | None = None) -> Perceiver:
+                        seed: int | None = None, register: bool = True) -> Perceiver:
     """The perceiver ``perception`` (:data:`PERCEPTIONS`) reading ``world``'s cameras.
 
     A "-noisy" one reads them through a
     :class:`~voxposer.perception.noisy_source.NoisyObservationSource` with ``noise`` (None:
     the typical defaults of :class:`SensorNoiseConfig`; the label channel is left alone for
     colour-depth, which never reads it), seeded with ``seed`` (None: from the world's scene,
-    so an episode's noise is fixed by its scene).
+    so an episode's noise is fixed by its scene), and, with ``register`` and calibration
+    error on, registers those cameras against each other once per episode
+    (:class:`~voxposer.perception.view_registration.RegisteredObservationSource`).
     """
     source = world
     if check_perception(perception).endswith("-noisy"):
@@ -73,6 +76,8 @@ def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig
             config = replace(config, mask_corruption=False)
         seed = seed_from_scene(getattr(world, "placement", None)) if seed is None else seed
         source = NoisyObservationSource(world, config, seed)
+        if register and config.calibration:
+            source = RegisteredObservationSource(source, world.grid)
     if perception.startswith("colour-depth"):
         return ColourDepthPerceiver(source, world.grid)
     return SegmentationPerceiver(source, world.grid)

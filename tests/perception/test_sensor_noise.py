@@ -22,6 +22,7 @@ from voxposer.perception import (
 )
 from voxposer.perception.colour_depth import ColourDepthPerceiver
 from voxposer.perception.sensor_noise import EFFECTS, corrupt_mask
+from voxposer.perception.view_registration import RegisteredObservationSource
 from voxposer.pipeline import PERCEPTIONS, check_perception, simulated_perceiver
 
 H, W = 120, 160
@@ -222,7 +223,16 @@ def test_every_perception_mode_builds_its_perceiver(fresh: TabletopWorld, mode: 
     perceiver = simulated_perceiver(fresh, mode)
     kind = ColourDepthPerceiver if mode.startswith("colour-depth") else SegmentationPerceiver
     assert isinstance(perceiver, kind)
-    assert isinstance(perceiver.source, NoisyObservationSource) == mode.endswith("-noisy")
+    source = perceiver.source
+    if mode.endswith("-noisy"):  # the sensor model, its cameras registered against each other
+        assert isinstance(source, RegisteredObservationSource)
+        assert isinstance(source.source, NoisyObservationSource)
+        unregistered = simulated_perceiver(fresh, mode, register=False).source
+        assert isinstance(unregistered, NoisyObservationSource)
+        calibrated = simulated_perceiver(fresh, mode, noise=SensorNoiseConfig(calibration=False))
+        assert isinstance(calibrated.source, NoisyObservationSource)
+    else:
+        assert not isinstance(source, NoisyObservationSource | RegisteredObservationSource)
 
 
 def test_noisy_ground_truth_sees_noisy_views_deterministically(fresh: TabletopWorld) -> None:

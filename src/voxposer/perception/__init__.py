@@ -12,6 +12,8 @@ Public API:
 * :func:`scene_occupancy`, :func:`match_name`, :func:`normalize_name`, :func:`is_end_effector`
 * :class:`SensorNoiseConfig`, :func:`add_sensor_noise` (a consumer RGB-D camera's errors on
   simulated views) and :class:`NoisyObservationSource` (a source serving noisy views)
+* :class:`RegisteredObservationSource` (a source whose cameras are registered against each
+  other once per episode, :func:`register_views`) and :class:`RegistrationConfig`
 """
 
 from voxposer.perception.colour_depth import ColourDepthPerceiver
@@ -29,6 +31,8 @@ from voxposer.perception.point_cloud import (
 from voxposer.perception.scene_occupancy import scene_occupancy
 from voxposer.perception.segmentation import SegmentationPerceiver
 from voxposer.perception.sensor_noise import SensorNoiseConfig, add_sensor_noise
+from voxposer.perception.surface_registration import RegistrationConfig
+from voxposer.perception.view_registration import RegisteredObservationSource, register_views
 
 __all__ = [
     "CameraFrame",
@@ -39,6 +43,8 @@ __all__ = [
     "ObservationSource",
     "Perceiver",
     "PointCloud",
+    "RegisteredObservationSource",
+    "RegistrationConfig",
     "SegmentationPerceiver",
     "SensorNoiseConfig",
     "add_sensor_noise",
@@ -49,5 +55,6 @@ __all__ = [
     "is_end_effector",
     "match_name",
     "normalize_name",
+    "register_views",
     "scene_occupancy",
 ]
