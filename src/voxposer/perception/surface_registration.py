@@ -46,6 +46,9 @@ class RegistrationConfig:
             0.7 per round down to 0.008).
         patch_cell_m: cell of the raised patches' connectivity [m], 0.005.
         patch_min_height_m: height above the table (world z) of a raised patch [m], 0.01.
+        patch_max_height_m: ... and at most this [m], 0.12: the tops of things standing on
+            the table (a block's is at 0.05), not the robot's links or a cabinet's top and
+            drawers, which the cameras see cut off in different places.
         patch_min_cells: a raised top's least area in cells, 30 (~7.5 cm²).
         patch_max_cells: ... and most, 200 (50 cm²: a block's top, not a cabinet's or an open
             drawer's floor, which the cameras see cut off in different places).
@@ -54,10 +57,10 @@ class RegistrationConfig:
         patch_trim_m: a patch's offset further than this from the camera's median patch offset
             is left out [m], 0.005 (a patch the camera sees clipped).
         min_patches: the fewest raised tops every camera must share with the others (after
-            the median test) for the registration to count, 3: with fewer, the horizontal
+            the median test) for the registration to count, 2: with fewer, the horizontal
             offset between the left and the right cameras is left to the surfaces, which in
-            a scene of large planes (a cabinet, a single block) pull it astray — the views
-            are kept as calibrated.
+            a scene of large planes (a cabinet beside a single block) pull it astray — the
+            views are kept as calibrated.
         max_rotation_deg: a correction rotating more than this is refused (the views kept as
             they came) [deg], 2.
         max_translation_m: ... or moving further than this [m], 0.03.
@@ -68,16 +71,18 @@ class RegistrationConfig:
     match_radius_m: float = 0.03
     patch_cell_m: float = 0.005
     patch_min_height_m: float = 0.01
+    patch_max_height_m: float = 0.12
     patch_min_cells: int = 30
     patch_max_cells: int = 200
     patch_match_m: float = 0.025
     patch_trim_m: float = 0.005
-    min_patches: int = 3
+    min_patches: int = 2
     max_rotation_deg: float = 2.0
     max_translation_m: float = 0.03
 
     def __post_init__(self) -> None:
-        for name in ("voxel_m", "match_radius_m", "patch_cell_m", "patch_match_m",
+        for name in ("voxel_m", "match_radius_m", "patch_cell_m", "patch_max_height_m",
+                     "patch_match_m",
                      "patch_trim_m", "max_rotation_deg", "max_translation_m"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and value > 0):
@@ -132,7 +137,8 @@ def _raised_patches(points: NDArray[np.float64], config: RegistrationConfig
     if len(cells) < config.patch_min_cells:
         return np.zeros((0, 3)), np.zeros(0)
     normals = _pca_normals(cells, cKDTree(cells), 12)
-    top = cells[(np.abs(normals[:, 2]) > 0.9) & (cells[:, 2] > config.patch_min_height_m)]
+    top = cells[(np.abs(normals[:, 2]) > 0.9) & (cells[:, 2] > config.patch_min_height_m)
+                & (cells[:, 2] < config.patch_max_height_m)]
     if len(top) == 0:
         return np.zeros((0, 3)), np.zeros(0)
     key = np.floor(top / [config.patch_cell_m, config.patch_cell_m, 0.01]).astype(np.int64)
