@@ -32,3 +32,27 @@ def test_hand_points_down_with_its_fingers_along_the_axis_and_the_wrist_mid_rang
     # of the two equivalent yaws, the one within a quarter turn of the wrist's mid-range
     off = (_yaw(q) - azimuth - MID_WRIST_YAW + np.pi) % (2 * np.pi) - np.pi
     assert abs(off) <= np.pi / 2 + 1e-9
+
+
+def _push_along_x(contact_y: float) -> "PushAction":
+    from voxposer.planning.push_primitive import PushAction
+
+    return PushAction(np.array([-0.1, contact_y, 0.02]), np.array([1.0, 0.0, 0.0]), 0.05,
+                      np.array([-0.05, contact_y, 0.02]), 0.0, np.array([0.0, 1.0, 0.0]))
+
+
+def test_a_push_whose_approach_misses_goes_straight_up_instead_of_through() -> None:
+    """The hand cannot reach behind the contact (a wall at y = 0.05 stands in for a pose the
+    arm cannot take): it must not sweep "through" from where it got stuck."""
+    from tests.control.test_seams import KinematicRobot
+    from voxposer.control.pushing_loop import APPROACH_MISS_M, push
+
+    robot = KinematicRobot((-0.3, 0.0, 0.15), wall_y=0.05)
+    moves = push(robot, _push_along_x(0.10), sideways=False, object_top=0.05)
+    assert len(moves) == 2 and moves[0].position_error > APPROACH_MISS_M
+    assert robot.position[0] < -0.1, "the hand never passed the contact point"
+    assert robot.position[2] >= 0.05 + 0.03 - 1e-6, "it went up, not through"
+
+    free = KinematicRobot((-0.3, 0.0, 0.15))
+    assert len(push(free, _push_along_x(0.10), sideways=False, object_top=0.05)) == 5
+    assert free.position[0] > -0.1, "a reachable push goes through"

@@ -76,6 +76,18 @@ def test_still_means_the_visible_points_are_where_they_were() -> None:
     assert not is_still(pts, pts[:120] + [0.01, 0.0, 0.0])
 
 
+def test_still_allows_the_depth_noise_of_a_consumer_camera() -> None:
+    """A block's surface seen twice with σ = 2.5 mm of fresh noise per axis (~4 mm along a
+    ray) is still; the same surface 1 cm away is not."""
+    rng = np.random.default_rng(0)
+    g = np.linspace(-0.025, 0.025, 26)
+    top = np.stack(np.meshgrid(g, g, [0.05]), axis=-1).reshape(-1, 3)
+    seen = top + rng.normal(0.0, 0.0025, top.shape)
+    again = top + rng.normal(0.0, 0.0025, top.shape)
+    assert is_still(seen, again)
+    assert not is_still(seen, again + [0.01, 0.0, 0.0])
+
+
 def test_an_object_that_moved_under_its_occluder_forgets() -> None:
     # a carried block: the hand in front of its old place moves with it
     grid = VoxelGrid((-1.0, -1.0, -0.1), (1.0, 1.0, 0.9), (50, 50, 25))

@@ -220,6 +220,10 @@ def side_push_quat(direction: NDArray[np.float64]) -> NDArray[np.float64]:
 #: Fingertips below the end-effector point plus a margin: how far above an object's top the
 #: end effector travels between pushes [m].
 TOP_CLEARANCE_M = 0.033
+#: An approach move (above or behind the contact) ending farther than this from its target [m]
+#: abandons the push (the arm could not take the pose there, e.g. top-down right in front of
+#: its base).
+APPROACH_MISS_M = 0.02
 
 
 def push(robot: Robot, action: PushAction, sideways: bool, object_top: float | None = None
@@ -233,8 +237,12 @@ def push(robot: Robot, action: PushAction, sideways: bool, object_top: float | N
     the push, so the forearm stays clear of the cabinet, its fingers level
     (:func:`side_push_quat`). The gripper is closed first.
 
+    A push whose approach (above, then behind the contact) ends more than
+    :data:`APPROACH_MISS_M` from its target is abandoned: the hand goes straight up.
+
     Returns:
-        the robot's result of each of the five moves (``reached``, ``position_error`` [m]).
+        the robot's result of each move made (``reached``, ``position_error`` [m]): five, or
+        the approach and the move up of an abandoned push.
     """
     reach = action.contact[:2] - robot.base_position[:2]
     azimuth = float(np.arctan2(reach[1], reach[0]))
@@ -242,5 +250,15 @@ def push(robot: Robot, action: PushAction, sideways: bool, object_top: float | N
     robot.close_gripper()
     lift = {} if sideways or object_top is None else {
         "lift_height_m": max(0.03, object_top + TOP_CLEARANCE_M - float(action.contact[2]))}
-    return [robot.move_to_pose(point, quat, speed_scale=0.5 if k == 2 else 1.0)
-            for k, point in enumerate(push_waypoints(action, **lift))]
+    waypoints = push_waypoints(action, **lift)
+    moves: list[MoveResult] = []
+    for k, point in enumerate(waypoints):
+        moves.append(robot.move_to_pose(point, quat, speed_scale=0.5 if k == 2 else 1.0))
+        if k < 2 and moves[-1].position_error > APPROACH_MISS_M:
+            # the hand is not behind the contact: pushing "through" from wherever it is would
+            # sweep the object sideways; straight up instead, and the loop samples again
+            here, _ = robot.get_ee_pose()
+            up = np.array([*np.asarray(here)[:2], max(float(here[2]), float(waypoints[0][2]))])
+            moves.append(robot.move_to_pose(up, quat))
+            break
+    return moves
