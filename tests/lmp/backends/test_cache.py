@@ -121,3 +121,34 @@ def test_clear(tmp_path: Path) -> None:
     llm.complete(req())
     cache.clear()
     assert len(cache) == 0 and llm.complete(req()).cached is False
+
+
+def test_opening_a_new_cache_retries_when_another_process_is_turning_it_to_wal(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Two benchmark workers opening a fresh cache at once: sqlite tells one "locked" at once
+    (no busy wait, a deadlock otherwise); the cache must retry, not fail the worker."""
+    import sqlite3
+
+    import voxposer.lmp.backends.cache as module
+
+    real_connect = sqlite3.connect
+    refusals = []
+
+    class Contended:
+        def __init__(self, conn: sqlite3.Connection) -> None:
+            self.conn = conn
+
+        def execute(self, sql: str, *args: object) -> sqlite3.Cursor:
+            if sql.startswith("PRAGMA journal_mode") and len(refusals) < 2:
+                refusals.append(sql)
+                raise sqlite3.OperationalError("database is locked")
+            return self.conn.execute(sql, *args)
+
+        def __getattr__(self, name: str) -> object:
+            return getattr(self.conn, name)
+
+    monkeypatch.setattr(module.sqlite3, "connect",
+                        lambda *a, **k: Contended(real_connect(*a, **k)))
+    cache = module.ResponseCache(tmp_path / "fresh" / "cache.sqlite")
+    assert len(refusals) == 2
+    assert cache.get("nothing yet") is None

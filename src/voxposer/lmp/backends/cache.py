@@ -7,6 +7,7 @@ timeout, so several threads and processes may share it. Only successful response
 
 from __future__ import annotations
 
+import itertools
 import json
 import logging
 import sqlite3
@@ -18,6 +19,9 @@ from pathlib import Path
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 
 log = logging.getLogger(__name__)
+
+#: How long opening or writing waits for another process's lock [s].
+_BUSY_TIMEOUT_S = 30.0
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS responses (
@@ -45,12 +49,24 @@ class ResponseCache:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._lock = threading.Lock()
-        self._conn = sqlite3.connect(self.path, timeout=30.0, check_same_thread=False)
-        with self._lock:
-            self._conn.execute("PRAGMA journal_mode=WAL")
-            self._conn.execute("PRAGMA synchronous=NORMAL")
-            self._conn.execute(_SCHEMA)
-            self._conn.commit()
+        self._conn = sqlite3.connect(self.path, timeout=_BUSY_TIMEOUT_S, check_same_thread=False)
+        deadline = time.monotonic() + _BUSY_TIMEOUT_S
+        for attempt in itertools.count():
+            try:
+                with self._lock:
+                    self._conn.execute("PRAGMA journal_mode=WAL")
+                    self._conn.execute("PRAGMA synchronous=NORMAL")
+                    self._conn.execute(_SCHEMA)
+                    self._conn.commit()
+                break
+            except sqlite3.OperationalError as err:
+                # two processes opening a new file at once both read it and then both ask to
+                # turn it to WAL: sqlite answers one "locked" at once, without waiting (a
+                # deadlock otherwise); the other's conversion is over in milliseconds
+                if "locked" not in str(err) or time.monotonic() > deadline:
+                    raise
+                self._conn.rollback()
+                time.sleep(min(0.5, 0.01 * 2 ** attempt))
 
     def get(self, key: str) -> LLMResponse | None:
         """The stored response for ``key`` (marked ``cached=True``), or None."""
