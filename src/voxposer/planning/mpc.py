@@ -73,10 +73,7 @@ def _outline_hits(points: NDArray[np.float64], cost_map: CostMap) -> NDArray[np.
     which the planned path of the object's *centre* keeps clear of (the centre is checked
     against them). An outline counted against them made every push along a path that skirts
     the core score worse than a 1 cm nudge, and the object stalled there."""
-    grid = cost_map.fine_grid
-    lo, res, top = grid.bounds_min, grid.resolution, np.asarray(grid.shape) - 1
-    flat = points.reshape(-1, 3)
-    vox = np.clip(((flat - lo) / res).astype(np.int64), 0, top)
+    vox = cost_map.fine_grid.world_to_voxel(points.reshape(-1, 3), clip=True)
     inside = cost_map.fine_obstacles[vox[:, 0], vox[:, 1], vox[:, 2]]
     return inside.reshape(points.shape[0], -1).sum(axis=1)
 
@@ -122,9 +119,7 @@ def random_shooting(
     predicted = prediction.centres
     score = np.linalg.norm(predicted - goal, axis=1)
     if cost_map is not None:
-        grid = cost_map.grid
-        lo, res, top = grid.bounds_min, grid.resolution, np.asarray(grid.shape) - 1
-        vox = np.clip(((predicted - lo) / res).astype(np.int64), 0, top)
+        vox = cost_map.grid.world_to_voxel(predicted, clip=True)
         score += cfg.cost_weight * cost_map.cost[vox[:, 0], vox[:, 1], vox[:, 2]]
         score += cfg.collision_weight * _outline_hits(prediction.points, cost_map)
         # the centre where the planner's path may not go (the avoidance core): as bad as the

@@ -84,11 +84,9 @@ def hand_sweep_hits(
     centres = contacts[:, None, :] + travel[:, :, None] * directions[:, None, :]  # (S, 3, 3)
     pts = (centres[:, :, None, :] + foot[:, None, :, :]).reshape(len(hand_axes), -1, 3)
     grid = cost_map.fine_grid
-    lo, res = grid.bounds_min, grid.resolution
-    top = np.asarray(grid.shape) - 1
     underside = float(contacts[0, 2]) + cfg.hand_underside_m + 0.003
-    k0, k1 = (int(np.clip((z - lo[2]) / res[2], 0, top[2])) for z in (underside, underside + 0.09))
+    band = np.array([[*grid.bounds_min[:2], z] for z in (underside, underside + 0.09)])
+    k0, k1 = (int(k) for k in grid.world_to_voxel(band, clip=True)[:, 2])
     columns: NDArray[np.bool_] = np.any(cost_map.fine_obstacles[:, :, k0 : k1 + 1], axis=2)
-    ix = np.clip(((pts[..., 0] - lo[0]) / res[0]).astype(np.int64), 0, top[0])
-    iy = np.clip(((pts[..., 1] - lo[1]) / res[1]).astype(np.int64), 0, top[1])
-    return columns[ix, iy].sum(axis=1)
+    vox = grid.world_to_voxel(pts, clip=True)
+    return columns[vox[..., 0], vox[..., 1]].sum(axis=1)
