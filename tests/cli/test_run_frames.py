@@ -154,6 +154,7 @@ def test_the_stub_robot_reports_the_recorded_pose_and_refuses_to_move(frames: Pa
      ["colour-depth-noisy", "colour-depth or ground-truth"]),
     (["--frames", "{unlabelled}", "--robot", "none", "--perception", "ground-truth"],
      ["needs labels", "--with-labels"]),
+    (["--register-cameras"], ["--register-cameras", "--frames DIR"]),
 ])
 def test_bad_frame_options_are_one_clear_error(frames: Path, tmp_path: Path,
                                                capsys: pytest.CaptureFixture[str],
@@ -176,3 +177,30 @@ def test_bad_frame_options_are_one_clear_error(frames: Path, tmp_path: Path,
 def test_with_labels_needs_save_frames(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["render", "--with-labels"]) == 2
     assert "--save-frames" in capsys.readouterr().err
+
+
+def test_register_cameras_makes_miscalibrated_recorded_cameras_agree(
+        frames: Path, tmp_path: Path) -> None:
+    """Frames whose extrinsics carry a rig's calibration error, read with
+    --register-cameras: the perceiver sees the cameras corrected towards each other."""
+    import argparse
+
+    from tests.perception.test_view_registration import _disagreement_mm, _miscalibrated
+    from voxposer.cli.run_frames import frames_embodiment
+    from voxposer.perception.frames import save_frames
+    from voxposer.perception.view_registration import RegisteredObservationSource
+
+    exact = load_frames(frames)
+    off = _miscalibrated(exact, 0)
+    save_frames(off, tmp_path / "off")
+    _, plain = frames_embodiment(tmp_path / "off", "colour-depth",
+                                 argparse.Namespace(register_cameras=False))
+    assert not isinstance(plain.perceiver.source, RegisteredObservationSource)
+    _, body = frames_embodiment(tmp_path / "off", "colour-depth",
+                                argparse.Namespace(register_cameras=True))
+    source = body.perceiver.source
+    assert isinstance(source, RegisteredObservationSource)
+    body.perceiver.observe()
+    before = _disagreement_mm(exact, off)
+    after = _disagreement_mm(exact, off, source.corrections)
+    assert before > 10.0 and after < 0.4 * before, f"{before:.1f} → {after:.1f} mm"

@@ -7,6 +7,8 @@ and no robot moves: the "plan" is the first sub-task's planned path from the end
 recorded with the frames (:mod:`voxposer.control.plan_only`). The output folder gets
 ``subtask_01.html`` (composed maps and planned path), ``plan.json`` (the path's waypoints),
 ``transcript.jsonl`` and ``summary.json``; exit status 0 when the first sub-task was planned.
+``--register-cameras`` registers the recorded cameras against each other first
+(:mod:`voxposer.perception.view_registration`; the corrections' sizes go to ``summary.json``).
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ from voxposer.errors import ConfigError
 
 if TYPE_CHECKING:
     from voxposer.perception.frames import RecordedFrames
-    from voxposer.perception.perceiver import Perceiver
+    from voxposer.perception.perceiver import ObservationSource, Perceiver
     from voxposer.pipeline import Embodiment
 
 #: ``--robot`` values: the simulated arm, or none (with ``--frames``: plan only).
@@ -41,6 +43,12 @@ def add_frame_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--robot", choices=ROBOTS, default="sim",
                        help="what executes: the simulated arm (sim, default) or nothing (none: "
                        "plan the first sub-task only; with --frames)")
+    group.add_argument("--register-cameras", action="store_true",
+                       help="with --frames: register the cameras against each other before "
+                       "perceiving (multi-view ICP and the tops of objects on the table, world "
+                       "z = 0 at the table top), for a rig whose extrinsics are a few mm or "
+                       "tenths of a degree off; kept as recorded when the scene shows fewer "
+                       "than two such tops to every camera")
 
 
 def check_frame_options(args: argparse.Namespace) -> None:
@@ -55,6 +63,9 @@ def check_frame_options(args: argparse.Namespace) -> None:
     frames = getattr(args, "frames", None)
     robot = getattr(args, "robot", "sim")
     if frames is None:
+        if getattr(args, "register_cameras", False):
+            raise ConfigError("--register-cameras registers recorded cameras: add --frames DIR "
+                              "(the simulated perceptions with sensor noise register theirs)")
         if robot == "none":
             raise ConfigError("--robot none plans without moving a robot, on recorded frames: "
                               "add --frames DIR (voxposer render --save-frames DIR writes some)")
@@ -83,7 +94,10 @@ def frames_embodiment(frames: Path, perception: str, args: argparse.Namespace | 
                       ) -> tuple[RecordedFrames, Embodiment]:
     """The frames folder ``frames`` and the embodiment reading it: the stub robot reporting the
     recorded pose, and the ``perception`` perceiver on the tabletop workspace grid
-    (:data:`voxposer.tabletop.WORKSPACE_MIN` … ``WORKSPACE_MAX``, ``GRID_SHAPE`` voxels)."""
+    (:data:`voxposer.tabletop.WORKSPACE_MIN` … ``WORKSPACE_MAX``, ``GRID_SHAPE`` voxels),
+    reading the frames through
+    :class:`~voxposer.perception.view_registration.RegisteredObservationSource` when
+    ``args.register_cameras``."""
     from voxposer.control.plan_only import RecordedPoseRobot
     from voxposer.geometry.voxel_grid import VoxelGrid
     from voxposer.perception.colour_depth import ColourDepthPerceiver
@@ -93,15 +107,20 @@ def frames_embodiment(frames: Path, perception: str, args: argparse.Namespace | 
 
     source = RecordedFrames(frames)
     grid = VoxelGrid(tabletop.WORKSPACE_MIN, tabletop.WORKSPACE_MAX, tabletop.GRID_SHAPE)
+    seen: ObservationSource = source
+    if getattr(args, "register_cameras", False):
+        from voxposer.perception.view_registration import RegisteredObservationSource
+
+        seen = RegisteredObservationSource(source, grid)
     perceiver: Perceiver
     if perception == "open-vocab" and args is not None:
         from voxposer.cli.perception_options import open_vocab_from_args
 
-        perceiver = open_vocab_from_args(source, grid, args)
+        perceiver = open_vocab_from_args(seen, grid, args)
     elif perception == "colour-depth":
-        perceiver = ColourDepthPerceiver(source, grid)
+        perceiver = ColourDepthPerceiver(seen, grid)
     else:
-        perceiver = SegmentationPerceiver(source, grid)
+        perceiver = SegmentationPerceiver(seen, grid)
     robot = RecordedPoseRobot(source.observation, source.gripper_opening_m)
     return source, Embodiment(robot, perceiver)
 
@@ -128,6 +147,9 @@ def rollout_frames(args: argparse.Namespace, backend: Any, out: Path,
     finally:
         summary["llm_calls"] = runtime.llm_calls
         summary["scene"]["objects_seen"] = list(perceiver.object_names)
+        corrections = getattr(getattr(perceiver, "source", None), "corrections", None)
+        if getattr(args, "register_cameras", False) and corrections is not None:
+            summary["scene"]["camera_corrections"] = _correction_sizes(corrections)
         summary["subtasks"] = [_planned(r) for r in handoff.records] + [
             {"subtask": s, "planned": False} for s in handoff.skipped]
         backend.close()
@@ -143,6 +165,17 @@ def rollout_frames(args: argparse.Namespace, backend: Any, out: Path,
     summary.update(success=True, reason="planned",
                    message=f"planned {first.subtask!r}: {len(plan.trajectory)} waypoints to "
                    f"{np.round(plan.target, 3).tolist()} m; not executed (--robot none)")
+
+
+def _correction_sizes(corrections: dict[str, Any]) -> dict[str, dict[str, float]]:
+    """Camera name → the size of its registration correction (rotation [deg], translation at
+    the world origin [mm]); zeros when the cameras were kept as recorded."""
+    from scipy.spatial.transform import Rotation
+
+    return {name: {"rotation_deg": round(float(np.degrees(np.linalg.norm(
+                       Rotation.from_matrix(m[:3, :3]).as_rotvec()))), 3),
+                   "translation_mm": round(float(np.linalg.norm(m[:3, 3])) * 1000, 2)}
+            for name, m in corrections.items()}
 
 
 def _planned(record: Any) -> dict[str, Any]:
