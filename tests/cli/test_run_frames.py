@@ -185,13 +185,13 @@ def test_register_cameras_makes_miscalibrated_recorded_cameras_agree(
     --register-cameras: the perceiver sees the cameras corrected towards each other."""
     import argparse
 
-    from tests.perception.test_view_registration import _disagreement_mm, _miscalibrated
+    from tests.calibration import disagreement_mm, miscalibrated
     from voxposer.cli.run_frames import frames_embodiment
     from voxposer.perception.frames import save_frames
     from voxposer.perception.view_registration import RegisteredObservationSource
 
     exact = load_frames(frames)
-    off = _miscalibrated(exact, 0)
+    off = miscalibrated(exact, 0)
     save_frames(off, tmp_path / "off")
     _, plain = frames_embodiment(tmp_path / "off", "colour-depth",
                                  argparse.Namespace(register_cameras=False))
@@ -201,6 +201,6 @@ def test_register_cameras_makes_miscalibrated_recorded_cameras_agree(
     source = body.perceiver.source
     assert isinstance(source, RegisteredObservationSource)
     body.perceiver.observe()
-    before = _disagreement_mm(exact, off)
-    after = _disagreement_mm(exact, off, source.corrections)
+    before = disagreement_mm(exact, off)
+    after = disagreement_mm(exact, off, source.corrections)
     assert before > 10.0 and after < 0.4 * before, f"{before:.1f} → {after:.1f} mm"

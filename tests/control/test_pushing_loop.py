@@ -3,6 +3,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from voxposer.control.pushing_loop import MID_WRIST_YAW, top_down_quat
+from voxposer.planning.push_primitive import PushAction
 from voxposer.valuemaps import TOP_DOWN_QUAT
 
 
@@ -34,9 +35,7 @@ def test_hand_points_down_with_its_fingers_along_the_axis_and_the_wrist_mid_rang
     assert abs(off) <= np.pi / 2 + 1e-9
 
 
-def _push_along_x(contact_y: float) -> "PushAction":
-    from voxposer.planning.push_primitive import PushAction
-
+def _push_along_x(contact_y: float) -> PushAction:
     return PushAction(np.array([-0.1, contact_y, 0.02]), np.array([1.0, 0.0, 0.0]), 0.05,
                       np.array([-0.05, contact_y, 0.02]), 0.0, np.array([0.0, 1.0, 0.0]))
 

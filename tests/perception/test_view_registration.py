@@ -8,42 +8,13 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from tests.calibration import disagreement_mm, miscalibrated
 
 from voxposer.envs import SceneLayout, TabletopWorld
 from voxposer.errors import ConfigError
-from voxposer.perception import Observation, SensorNoiseConfig
-from voxposer.perception.point_cloud import backproject
-from voxposer.perception.sensor_noise import draw_calibration
+from voxposer.perception import Observation
 from voxposer.perception.surface_registration import RegistrationConfig, register_clouds
 from voxposer.perception.view_registration import RegisteredObservationSource, register_views
-
-#: what the sensor model draws per camera: 0.5° about a random axis and 5 mm
-CALIBRATION = SensorNoiseConfig()
-
-
-def _miscalibrated(obs: Observation, seed: int) -> Observation:
-    offsets = draw_calibration(CALIBRATION, [f.name for f in obs.cameras],
-                               np.random.default_rng(seed))
-    return replace(obs, cameras=tuple(replace(f, extrinsics=f.extrinsics @ offsets[f.name])
-                                      for f in obs.cameras))
-
-
-def _disagreement_mm(exact: Observation, seen: Observation,
-                     corrections: dict[str, np.ndarray] | None = None) -> float:
-    """Largest median distance [mm] between two cameras' placements of the same points (the
-    first camera's workspace pixels), under the views' extrinsics (and ``corrections``)."""
-    first = exact.cameras[0]
-    pts = backproject(first.depth, first.intrinsics, first.extrinsics).reshape(-1, 3)
-    pts = pts[np.all(np.isfinite(pts), axis=1) & (np.abs(pts[:, 0] + 0.2) < 0.5)
-              & (np.abs(pts[:, 1]) < 0.5)]
-    placed = []
-    for truth, frame in zip(exact.cameras, seen.cameras, strict=True):
-        err = frame.extrinsics @ np.linalg.inv(truth.extrinsics)
-        if corrections is not None:
-            err = corrections[frame.name] @ err
-        placed.append(pts @ err[:3, :3].T + err[:3, 3])
-    return 1000 * max(float(np.median(np.linalg.norm(a - b, axis=1)))
-                      for i, a in enumerate(placed) for b in placed[i + 1:])
 
 
 @pytest.fixture
@@ -55,10 +26,10 @@ def scene(world: TabletopWorld) -> Observation:
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_miscalibrated_cameras_are_made_to_agree(
         world: TabletopWorld, scene: Observation, seed: int) -> None:
-    seen = _miscalibrated(scene, seed)
-    before = _disagreement_mm(scene, seen)
+    seen = miscalibrated(scene, seed)
+    before = disagreement_mm(scene, seen)
     corrections = register_views(seen.cameras, world.grid)
-    after = _disagreement_mm(scene, seen, corrections)
+    after = disagreement_mm(scene, seen, corrections)
     assert before > 10.0, "the drawn calibration error should smear the views"
     assert after < 5.5 and after < 0.4 * before, f"disagreement {before:.1f} → {after:.1f} mm"
 
@@ -69,12 +40,12 @@ def test_exact_cameras_stay_within_the_registration_floor(
     exact views come out a few millimetres apart (5.2 mm here, the largest camera pair, over
     the whole workspace), no further."""
     corrections = register_views(scene.cameras, world.grid)
-    assert _disagreement_mm(scene, scene, corrections) < 6.0
+    assert disagreement_mm(scene, scene, corrections) < 6.0
 
 
 def test_a_correction_beyond_the_configured_bound_keeps_the_calibration(
         world: TabletopWorld, scene: Observation) -> None:
-    seen = _miscalibrated(scene, 0)
+    seen = miscalibrated(scene, 0)
     tight = RegistrationConfig(max_rotation_deg=0.01, max_translation_m=0.0001)
     corrections = register_views(seen.cameras, world.grid, tight)
     assert all(np.array_equal(c, np.eye(4)) for c in corrections.values())
@@ -100,10 +71,10 @@ class _Replay:
 
 def test_the_source_registers_once_per_episode_and_keeps_frames(
         world: TabletopWorld, scene: Observation, monkeypatch: pytest.MonkeyPatch) -> None:
-    first = _miscalibrated(scene, 0)
+    first = miscalibrated(scene, 0)
     later = replace(first, time=first.time + 1.0,
                     cameras=(first.cameras[0],) + tuple(replace(f) for f in first.cameras[1:]))
-    reset = replace(_miscalibrated(scene, 1), time=0.0)
+    reset = replace(miscalibrated(scene, 1), time=0.0)
     calls: list[int] = []
     import voxposer.perception.view_registration as module
     real = module.register_views
@@ -136,6 +107,6 @@ def test_a_scene_with_too_few_raised_tops_keeps_the_calibration(world: TabletopW
 
     reset_episode(TASKS["close_drawer"], world, "seen", 0)
     assert sum("block" in n for n in world.object_names) == 1
-    seen = _miscalibrated(world.observe(rgb=False), 0)
+    seen = miscalibrated(world.observe(rgb=False), 0)
     corrections = register_views(seen.cameras, world.grid)
     assert all(np.array_equal(c, np.eye(4)) for c in corrections.values())
