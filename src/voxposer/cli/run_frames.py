@@ -170,12 +170,11 @@ def rollout_frames(args: argparse.Namespace, backend: Any, out: Path,
 def _correction_sizes(corrections: dict[str, Any]) -> dict[str, dict[str, float]]:
     """Camera name → the size of its registration correction (rotation [deg], translation at
     the world origin [mm]); zeros when the cameras were kept as recorded."""
-    from scipy.spatial.transform import Rotation
+    from voxposer.perception.surface_registration import correction_size
 
-    return {name: {"rotation_deg": round(float(np.degrees(np.linalg.norm(
-                       Rotation.from_matrix(m[:3, :3]).as_rotvec()))), 3),
-                   "translation_mm": round(float(np.linalg.norm(m[:3, 3])) * 1000, 2)}
-            for name, m in corrections.items()}
+    sizes = {name: correction_size(m) for name, m in corrections.items()}
+    return {name: {"rotation_deg": round(deg, 3), "translation_mm": round(shift * 1000, 2)}
+            for name, (deg, shift) in sizes.items()}
 
 
 def _planned(record: Any) -> dict[str, Any]:

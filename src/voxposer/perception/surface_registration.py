@@ -82,8 +82,7 @@ class RegistrationConfig:
 
     def __post_init__(self) -> None:
         for name in ("voxel_m", "match_radius_m", "patch_cell_m", "patch_max_height_m",
-                     "patch_match_m",
-                     "patch_trim_m", "max_rotation_deg", "max_translation_m"):
+                     "patch_match_m", "patch_trim_m", "max_rotation_deg", "max_translation_m"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and value > 0):
                 raise ConfigError(f"RegistrationConfig.{name} must be > 0; got {value!r}")
@@ -282,10 +281,17 @@ def register_clouds(clouds: Sequence[NDArray[np.float64]],
         np.mean([m[:3, 3] for m in moves], axis=0)])
     moves = [np.linalg.inv(_twist(mean)) @ m for m in moves]
     for m in moves:
-        angle = np.degrees(np.linalg.norm(Rotation.from_matrix(m[:3, :3]).as_rotvec()))
-        if angle > config.max_rotation_deg or np.linalg.norm(m[:3, 3]) > config.max_translation_m:
+        angle_deg, shift_m = correction_size(m)
+        if angle_deg > config.max_rotation_deg or shift_m > config.max_translation_m:
             return identity
     return moves
 
 
-__all__ = ["RegistrationConfig", "register_clouds"]
+def correction_size(move: NDArray[np.float64]) -> tuple[float, float]:
+    """The size of a 4x4 correction: its rotation angle [deg] and its translation at the world
+    origin [m]."""
+    angle = np.linalg.norm(Rotation.from_matrix(move[:3, :3]).as_rotvec())
+    return float(np.degrees(angle)), float(np.linalg.norm(move[:3, 3]))
+
+
+__all__ = ["RegistrationConfig", "correction_size", "register_clouds"]

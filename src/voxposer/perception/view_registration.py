@@ -31,14 +31,10 @@ def register_views(frames: Sequence[CameraFrame], grid: VoxelGrid,
     """Camera name → 4x4 world-frame correction of its extrinsics (``C @ E``) making ``frames``
     agree on the workspace ``grid``'s box (see
     :func:`~voxposer.perception.surface_registration.register_clouds`)."""
-    lo = np.asarray(grid.bounds_min, dtype=np.float64)
-    hi = np.asarray(grid.bounds_max, dtype=np.float64)
     clouds = []
     for frame in frames:
         points = backproject(frame.depth, frame.intrinsics, frame.extrinsics).reshape(-1, 3)
-        with np.errstate(invalid="ignore"):
-            inside = np.all((points >= lo) & (points <= hi), axis=1)
-        clouds.append(points[inside])
+        clouds.append(points[grid.contains(points)])  # NaN points (no depth) are outside
     moves = register_clouds(clouds, config)
     return {frame.name: move for frame, move in zip(frames, moves, strict=True)}
 
