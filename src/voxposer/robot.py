@@ -85,9 +85,13 @@ class Robot(Protocol):
         ...
 
     def move_to_pose(self, position: ArrayLike, quat_xyzw: ArrayLike | None = None,
-                     speed_scale: float = 1.0, gripper: float | None = None) -> MoveResult:
+                     speed_scale: float = 1.0, gripper: float | None = None,
+                     max_detour: float | None = None) -> MoveResult:
         """Move to a pose and wait; raises ``UnreachablePoseError`` if no joint configuration
-        reaches it (the robot does not move); a move that ends short says so in its result."""
+        reaches it (the robot does not move); a move that ends short says so in its result.
+        ``max_detour`` [m]: how far the hand may leave the straight line to the target to
+        finish a move whose line the arm cannot follow (None: no limit; 0: it stops where the
+        line got stuck — a push's stroke)."""
         ...
 
     def get_gripper_state(self) -> float:

@@ -55,3 +55,23 @@ def test_a_push_whose_approach_misses_goes_straight_up_instead_of_through() -> N
     free = KinematicRobot((-0.3, 0.0, 0.15))
     assert len(push(free, _push_along_x(0.10), sideways=False, object_top=0.05)) == 5
     assert free.position[0] > -0.1, "a reachable push goes through"
+
+
+def test_the_stroke_the_retreat_and_the_lift_keep_to_their_straight_lines() -> None:
+    """Finishing a stuck stroke in joint space swept the hand across the table (into the block
+    to stay away from); those moves ask the robot to stay on their lines."""
+    from tests.control.test_seams import KinematicRobot
+    from voxposer.control.pushing_loop import push
+
+    robot = KinematicRobot((-0.3, 0.0, 0.15))
+    asked: list[float | None] = []
+    move = robot.move_to_pose
+
+    def recording(position, quat_xyzw=None, speed_scale=1.0, gripper=None, max_detour=None):
+        asked.append(max_detour)
+        return move(position, quat_xyzw, speed_scale, gripper, max_detour)
+
+    robot.move_to_pose = recording  # type: ignore[method-assign]
+    push(robot, _push_along_x(0.10), sideways=False, object_top=0.05)
+    assert asked[0] is None  # the move above the contact, at the travel height
+    assert all(d is not None and d <= 0.03 for d in asked[2:]) and len(asked) == 5

@@ -64,7 +64,8 @@ class KinematicRobot:
         return StepResult(self.position.copy(), at_goal, self.time)
 
     def move_to_pose(self, position: ArrayLike, quat_xyzw: ArrayLike | None = None,
-                     speed_scale: float = 1.0, gripper: float | None = None) -> MoveResult:
+                     speed_scale: float = 1.0, gripper: float | None = None,
+                     max_detour: float | None = None) -> MoveResult:
         target, start = np.asarray(position, dtype=float), self.time
         while not self._toward(target, speed_scale) and self.time - start < 5.0:
             pass

@@ -81,7 +81,8 @@ class RecordedPoseRobot:
         return self._refuse(f"step toward {np.asarray(position).round(3).tolist()} m")
 
     def move_to_pose(self, position: ArrayLike, quat_xyzw: ArrayLike | None = None,
-                     speed_scale: float = 1.0, gripper: float | None = None) -> MoveResult:
+                     speed_scale: float = 1.0, gripper: float | None = None,
+                     max_detour: float | None = None) -> MoveResult:
         return self._refuse(f"move to {np.asarray(position).round(3).tolist()} m")
 
     def open_gripper(self) -> None:

@@ -164,14 +164,22 @@ class ArmControlMixin(ArmStateMixin):
         return StepResult(self.data.site_xpos[self._ee_site].copy(), wp.at_goal, float(self.data.time))
 
     def move_to_pose(self, position: ArrayLike, quat_xyzw: ArrayLike | None = None,
-                     speed_scale: float = 1.0, gripper: float | None = None) -> MoveResult:
+                     speed_scale: float = 1.0, gripper: float | None = None,
+                     max_detour: float | None = None) -> MoveResult:
         """Move the end-effector to a pose and wait until it arrives (or ``settle_time`` passes).
+
+        The hand follows the straight line to the target (IK at each waypoint). Where that line
+        cannot be followed (a joint limit, the arm folded in front of its base), the move is
+        finished in joint space toward the goal configuration, a path the hand does not keep
+        to: unless that path would take the hand farther than ``max_detour`` from the line, in
+        which case the move ends where the line got stuck (``reached`` False).
 
         Args:
             position: target [m], shape (3,).
             quat_xyzw: target orientation (x, y, z, w); None keeps the current one.
             speed_scale: multiplies the default end-effector speed.
             gripper: 1 to close or 0 to open once the pose is reached; None leaves it.
+            max_detour: [m] see above; None: no limit.
 
         Raises:
             UnreachablePoseError: no joint configuration reaches the pose (with the closest
@@ -201,11 +209,7 @@ class ArmControlMixin(ArmStateMixin):
         cmd_err = float(np.linalg.norm(self.ik.forward(self.controller.q_cmd)[0] - cmd.position))
         if not np.allclose(self.controller.q_cmd, goal.q, atol=0.05) and (
                 wp.tracking_error > ctl.position_tolerance or cmd_err > ctl.position_tolerance):
-            log.debug("straight-line IK got stuck %.3f m short; finishing in joint space", cmd_err)
-            while not self.controller.joint_step(goal.q, cmd.speed_scale):
-                self.data.ctrl[self._arm_act] = self.controller.q_cmd
-                self.advance(self.config.substeps)
-            self.data.ctrl[self._arm_act] = self.controller.q_cmd
+            self._finish_in_joint_space(goal.q, cmd.position, cmd.speed_scale, max_detour, cmd_err)
         settle_end = float(self.data.time) + ctl.settle_time
         while float(self.data.time) < settle_end:
             pos_err, rot_err = self._pose_error(cmd.position, target_q)
@@ -220,6 +224,25 @@ class ArmControlMixin(ArmStateMixin):
             log.warning("move_to_pose ended %.1f cm / %.3f rad from its target (blocked?)",
                         pos_err * 100, rot_err)
         return MoveResult(reached, pos_err, rot_err, float(self.data.time) - start)
+
+    def _finish_in_joint_space(self, q_goal: NDArray[np.float64], target: NDArray[np.float64],
+                               speed_scale: float, max_detour: float | None, short: float) -> None:
+        """Where the straight line got stuck (``short`` [m] from ``target``), move in joint space
+        to ``q_goal``, unless the hand would pass farther than ``max_detour`` [m] from the line
+        between here and the target."""
+        if max_detour is not None:
+            here = self.ik.forward(self.controller.q_cmd)[0]
+            hand = np.array([self.ik.forward(q)[0] for q in self.controller.joint_path(q_goal, speed_scale)])
+            detour = _distance_to_segment(hand.reshape(-1, 3), here, target)
+            if detour > max_detour:
+                log.debug("straight-line IK got stuck %.3f m short; the move ends there (a "
+                          "joint-space finish would pass %.3f m off the line)", short, detour)
+                return
+        log.debug("straight-line IK got stuck %.3f m short; finishing in joint space", short)
+        while not self.controller.joint_step(q_goal, speed_scale):
+            self.data.ctrl[self._arm_act] = self.controller.q_cmd
+            self.advance(self.config.substeps)
+        self.data.ctrl[self._arm_act] = self.controller.q_cmd
 
     def _pose_error(self, pos: NDArray[np.float64], quat_wxyz: NDArray[np.float64]) -> tuple[float, float]:
         here = np.zeros(4)
@@ -244,6 +267,16 @@ class ArmControlMixin(ArmStateMixin):
         """Move back to the ready pose (the paper's ``reset_to_default_pose``)."""
         pos, quat = self.ik.forward(HOME_Q)
         return self.move_to_pose(pos, wxyz_to_xyzw(quat), speed_scale)
+
+
+def _distance_to_segment(points: NDArray[np.float64], a: NDArray[np.float64],
+                         b: NDArray[np.float64]) -> float:
+    """Largest distance of ``points`` [m], shape (N, 3), from the segment a–b; 0 for none."""
+    if len(points) == 0:
+        return 0.0
+    ab = b - a
+    t = np.clip((points - a) @ ab / max(float(ab @ ab), 1e-12), 0.0, 1.0)
+    return float(np.linalg.norm(points - (a + t[:, None] * ab), axis=1).max())
 
 
 __all__ = ["ArmControlMixin", "ArmSettings", "ArmStateMixin"]

@@ -105,6 +105,16 @@ class PoseController:
         self.ref_pos, self.ref_quat = self.ik.forward(self.q_cmd)
         return bool(np.allclose(self.q_cmd, q_goal, atol=1e-6))
 
+    def joint_path(self, q_goal: NDArray[np.float64], speed_scale: float = 1.0) -> NDArray[np.float64]:
+        """The commands :meth:`joint_step` would give on its way to ``q_goal``, one per period
+        [rad], shape (N, 7); the controller does not move."""
+        limit = self._joint_step_limit(speed_scale)
+        q, path = self.q_cmd.copy(), list[NDArray[np.float64]]()
+        while not np.allclose(q, q_goal, atol=1e-6) and len(path) < 100_000:
+            q = np.clip(q + np.clip(q_goal - q, -limit, limit), self.ik.lower, self.ik.upper)
+            path.append(q)
+        return np.array(path).reshape(-1, len(q))
+
     def _apply(self, q_target: NDArray[np.float64], speed_scale: float) -> None:
         limit = self._joint_step_limit(speed_scale)
         dq = np.clip(q_target - self.q_cmd, -limit, limit)
