@@ -121,6 +121,10 @@ class LMPConfig:
         resolve_exact_names: a ``parse_query_obj`` query that names a scene object exactly
             (after the synonym table) is answered ``ret_val = detect(<name>)`` without the
             model, recorded as a ``resolved`` transcript event.
+        ground_references: an object the instruction names by its relation ("the leftmost
+            block", "the block nearest the robot") is replaced by its scene name before the
+            planner reads it (:mod:`voxposer.lmp.references`), recorded as a
+            ``reference_grounded`` transcript event.
         retrieved_examples: how many examples of an LMP's example bank, the nearest to the
             query, follow its fixed examples (:mod:`voxposer.lmp.retrieval`; 0: none).
     """
@@ -148,6 +152,7 @@ class LMPConfig:
     keep_instruction_speed: bool = True
     derived_conditions: bool = True
     resolve_exact_names: bool = True
+    ground_references: bool = True
     retrieved_examples: int = 2
 
     def __post_init__(self) -> None:
