@@ -34,6 +34,9 @@ def _ground(text: str, blocks=BLOCKS) -> tuple[str, list[str]]:
     ("hover over the second block from the left", "hover over the green block"),
     ("hover over the third block counting from the left side", "hover over the red block"),
     ("The Rightmost Block, please", "the red block, please"),
+    ("move over to the side of the table nearest the robot", "move over to the back side of the table"),
+    ("push it to the side of the table away from you", "push it to the front side of the table"),
+    ("go to the corner of the table closest to the red block", "go to the front right corner of the table"),
 ])
 def test_a_relation_is_replaced_by_the_block_it_singles_out(said: str, meant: str) -> None:
     assert _ground(said)[0] == meant

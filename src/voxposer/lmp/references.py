@@ -5,8 +5,9 @@ People name an object by where it is: "the leftmost block", "the block closest t
 scene's object names but not where they are, so the bundled 1.5B model guessed a colour for
 such a phrase, or passed the words on to map programs that picked by the wrong index or
 named blocks the scene lacks (dev records). Here each such phrase is matched, its candidates
-(the scene's objects of that kind: "block" → every "... block") are scored by the relation
-on their detected positions, and the phrase is replaced by the winner's name — when it wins
+(the scene's objects of that kind: "block" → every "... block"; "side" and "corner" of the
+table → the table's named places, :mod:`voxposer.places`) are scored by the relation on their
+detected positions (a place: its point), and the phrase is replaced by the winner's name — when it wins
 by at least :data:`MIN_MARGIN_M`; otherwise the words stay as said and the model reads them.
 
 Directions are the LMP API's (:mod:`voxposer.lmp.api`): front +x, back −x, right +y, left −y.
@@ -27,6 +28,7 @@ from numpy.typing import NDArray
 from voxposer.errors import VoxPoserError
 from voxposer.lmp.transcript import Transcript
 from voxposer.perception.names import normalize_name
+from voxposer.places import PLACES
 
 #: the winner of a relation must beat the runner-up by this much [m] to be named.
 MIN_MARGIN_M: Final = 0.02
@@ -42,7 +44,9 @@ _ORDINALS: Final = {"first": 0, "1st": 0, "second": 1, "2nd": 1, "third": 2, "3r
                     "fourth": 3, "4th": 3}
 _ROBOT_WORDS: Final = ("the robot", "you", "me", "the robot arm", "the arm", "the robot's base")
 _NEAR: Final = ("nearest", "closest", "next", "beside", "by")
-_FAR: Final = ("farthest", "furthest")
+_FAR: Final = ("farthest", "furthest", "away")
+#: the table's places a relation may pick among: "side" → its sides, "corner" → its corners.
+_PLACE_KINDS: Final = ("side", "corner")
 
 
 @dataclass(frozen=True)
@@ -67,6 +71,7 @@ def _patterns(refs: str) -> list[re.Pattern[str]]:
     nth = r"(?P<nth>" + "|".join(_ORDINALS) + r")"
     rel = r"(?P<rel>" + "|".join(_NEAR + _FAR) + r")"
     that = r"(?:(?:that is|that's|which is) )?"
+    places = r"(?P<kind>" + "|".join(_PLACE_KINDS) + r")"
     return [re.compile(p, re.IGNORECASE) for p in (
         rf"\bthe {sup} {kind}\b",
         rf"\bthe {kind} {that}(?:(?:farthest|furthest|most) to|(?:on|at) the (?:far|very)) "
@@ -74,6 +79,8 @@ def _patterns(refs: str) -> list[re.Pattern[str]]:
         rf"\bthe {nth} {kind} (?:from|counting from|counted from) the {dirs}(?: side| end)?\b",
         rf"\bthe {kind} {that}{rel}(?: to| from)? (?P<ref>{refs})\b",
         rf"\bthe {rel} {kind} (?:to|from) (?P<ref>{refs})\b",
+        rf"\bthe {places} of the table {that}{rel}(?: to| from)? (?P<ref>{refs})\b",
+        rf"\bthe {rel} {places} of the table (?:to|from) (?P<ref>{refs})\b",
     )]
 
 
@@ -141,13 +148,18 @@ def ground_references(text: str, names: Sequence[str], locate: Locate,
             ref = (match.groupdict().get("ref") or "").lower() or None
             ref_name = next((n for n in objects if ref == f"the {n.lower()}"), None)
             kind = match.group("kind").lower()
-            cands = [n for n in objects if n.lower().split()[-1] == kind and n != ref_name]
+            if kind in _PLACE_KINDS:
+                cands = [p.name for p in PLACES.values() if p.kind == kind]
+                spot = {p.name: np.array([*p.point, 0.0]) for p in PLACES.values()}.__getitem__
+            else:
+                cands = [n for n in objects if n.lower().split()[-1] == kind and n != ref_name]
+                spot = locate
             if len(cands) < 2:
                 continue
             if robot is None and ref in _ROBOT_WORDS:
                 robot = robot_points()
             try:
-                where = np.array([locate(n) for n in cands], dtype=np.float64)
+                where = np.array([spot(n) for n in cands], dtype=np.float64)
                 picked = _choice(match, where, locate, robot, ref_name)
             except VoxPoserError:  # a candidate or the reference not seen: the words stay
                 continue
