@@ -125,6 +125,10 @@ class LMPConfig:
             block", "the block nearest the robot") is replaced by its scene name before the
             planner reads it (:mod:`voxposer.lmp.references`), recorded as a
             ``reference_grounded`` transcript event.
+        plain_quantities: a distance the instruction says in words, other units or body
+            measures ("two inches", "a hand's width") is said in centimetres before the
+            planner reads it (:mod:`voxposer.lmp.quantities`), recorded as a
+            ``quantity_said_plainly`` transcript event.
         retrieved_examples: how many examples of an LMP's example bank, the nearest to the
             query, follow its fixed examples (:mod:`voxposer.lmp.retrieval`; 0: none).
     """
@@ -153,6 +157,7 @@ class LMPConfig:
     derived_conditions: bool = True
     resolve_exact_names: bool = True
     ground_references: bool = True
+    plain_quantities: bool = True
     retrieved_examples: int = 2
 
     def __post_init__(self) -> None:

@@ -43,13 +43,13 @@ from voxposer.lmp.checks import check_result
 from voxposer.lmp.codetext import extract_code
 from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
+from voxposer.lmp.instruction_forms import planner_instruction
 from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.plan_pipeline import complete_plan
 from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import Prompt, load_prompt
 from voxposer.lmp.query_forms import RETRY_MESSAGE, QueryForms, query_message
-from voxposer.lmp.references import grounded_instruction
 from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec
 from voxposer.lmp.runtime_errors import NoRetry, NothingFound, describe, give_up, is_nothing
 from voxposer.lmp.sandbox import Sandbox, suspend_time_limit
@@ -98,8 +98,7 @@ class LMPRuntime:
     def run(self, instruction: str) -> None:
         """Plan ``instruction`` into sub-tasks and carry each out (planner → composer → execute);
         the post-conditions the plan states are in ``intent.results`` (and the transcript)."""
-        if self.config.ground_references:
-            instruction = grounded_instruction(instruction, self.scene, self.transcript)
+        instruction = planner_instruction(instruction, self.scene, self.config, self.transcript)
         try:
             self.query("planner", instruction)
         finally:
