@@ -98,6 +98,8 @@ def test_bad_config_names_the_field() -> None:
         RegistrationConfig(rounds=0)
     with pytest.raises(ConfigError, match=re.escape("RegistrationConfig.voxel_m")):
         RegistrationConfig(voxel_m=-1.0)
+    with pytest.raises(ConfigError, match=re.escape("RegistrationConfig.patch_min_height_m")):
+        RegistrationConfig(patch_min_height_m=0.2)  # above the 0.12 m maximum
 
 
 def test_a_scene_with_too_few_raised_tops_keeps_the_calibration(world: TabletopWorld) -> None:

@@ -90,6 +90,11 @@ class RegistrationConfig:
             value = getattr(self, name)
             if not (isinstance(value, int) and value >= 1):
                 raise ConfigError(f"RegistrationConfig.{name} must be an int >= 1; got {value!r}")
+        for low, high in (("patch_min_height_m", "patch_max_height_m"),
+                          ("patch_min_cells", "patch_max_cells")):
+            if not getattr(self, low) < getattr(self, high):
+                raise ConfigError(f"RegistrationConfig.{low} must be below {high} "
+                                  f"({getattr(self, high)!r}); got {getattr(self, low)!r}")
 
 
 @dataclass(frozen=True)
