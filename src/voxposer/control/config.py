@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
+from voxposer.config_checks import require_int_at_least, require_positive
 from voxposer.errors import ConfigError
 from voxposer.planning.planner_config import PlannerConfig
 from voxposer.planning.push_primitive import PushConfig
@@ -59,22 +59,9 @@ class ExecutorConfig:
     push: PushConfig = field(default_factory=PushConfig)
 
     def __post_init__(self) -> None:
-        for name in (
-            "replan_hz",
-            "max_time_s",
-            "reach_tolerance_m",
-            "lookahead_m",
-            "min_progress_m",
-            "carry_radius_m",
-            "carry_min_opening_m",
-        ):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-                raise ConfigError(f"ExecutorConfig.{name} must be a positive number; got {value!r}")
+        require_positive(self, "replan_hz", "max_time_s", "reach_tolerance_m", "lookahead_m",
+                         "min_progress_m", "carry_radius_m", "carry_min_opening_m")
         if not (isinstance(self.hand_floor_m, int | float) and 0.0 <= self.hand_floor_m <= 0.2):
             raise ConfigError(f"ExecutorConfig.hand_floor_m must be in [0, 0.2] m; got "
                               f"{self.hand_floor_m!r}")
-        for name in ("stall_replans", "max_pushes"):
-            value = getattr(self, name)
-            if not isinstance(value, int) or value < 1:
-                raise ConfigError(f"ExecutorConfig.{name} must be an int >= 1; got {value!r}")
+        require_int_at_least(self, 1, "stall_replans", "max_pushes")

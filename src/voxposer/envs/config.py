@@ -6,12 +6,12 @@ z = 0; the robot base stands at the back (−x) of the table facing +x.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Final
 
 from voxposer import tabletop
 from voxposer.catalog import COLOR_NAMES
+from voxposer.config_checks import require_int_at_least, require_positive
 from voxposer.errors import ConfigError
 from voxposer.geometry.voxel_grid import VoxelGrid
 
@@ -28,11 +28,6 @@ COLORS: Final[dict[str, tuple[float, float, float, float]]] = dict(zip(COLOR_NAM
     (0.10, 0.85, 0.90, 1.0),
     (0.50, 0.50, 0.50, 1.0),
 ), strict=True))
-
-
-def _positive(name: str, value: float) -> None:
-    if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-        raise ConfigError(f"{name} must be a positive finite number; got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -80,9 +75,9 @@ class CameraConfig:
                 raise ConfigError(f"CameraConfig.{name} must be an int in [16, 4096]; got {value!r}")
         if not (isinstance(self.fovy, int | float) and 1.0 <= self.fovy <= 170.0):
             raise ConfigError(f"CameraConfig.fovy must be in [1, 170] degrees; got {self.fovy!r}")
-        _positive("CameraConfig.depth_max", self.depth_max)
+        require_positive(self, "depth_max")
         if self.frame_hz is not None:
-            _positive("CameraConfig.frame_hz", self.frame_hz)
+            require_positive(self, "frame_hz")
         if not self.positions:
             raise ConfigError("CameraConfig.positions must name at least one camera; got none")
         names = [n for n, _ in self.positions]
@@ -126,15 +121,11 @@ class ControllerConfig:
     gripper_time: float = 0.4
 
     def __post_init__(self) -> None:
-        for name in (
-            "control_dt", "ee_speed", "ee_angular_speed", "max_joint_speed", "max_speed_scale",
-            "position_tolerance", "rotation_tolerance", "settle_time", "gripper_time",
-        ):
-            _positive(f"ControllerConfig.{name}", getattr(self, name))
-        for name in ("ik_iterations", "ik_restarts"):
-            value = getattr(self, name)
-            if not isinstance(value, int) or value < (1 if name == "ik_iterations" else 0):
-                raise ConfigError(f"ControllerConfig.{name} must be a non-negative int; got {value!r}")
+        require_positive(self, "control_dt", "ee_speed", "ee_angular_speed", "max_joint_speed",
+                         "max_speed_scale", "position_tolerance", "rotation_tolerance",
+                         "settle_time", "gripper_time")
+        require_int_at_least(self, 1, "ik_iterations")
+        require_int_at_least(self, 0, "ik_restarts")
 
 
 def check_world_timing(owner: str, timestep: float, controller: ControllerConfig,
@@ -191,9 +182,8 @@ class WorldConfig:
     controller: ControllerConfig = field(default_factory=ControllerConfig)
 
     def __post_init__(self) -> None:
-        for name in ("timestep", "block_size", "block_mass", "block_friction", "line_length",
-                     "line_width"):
-            _positive(f"WorldConfig.{name}", getattr(self, name))
+        require_positive(self, "timestep", "block_size", "block_mass", "block_friction",
+                         "line_length", "line_width")
         check_world_timing("WorldConfig", self.timestep, self.controller, self.table_min,
                            self.table_max)
         self.grid  # noqa: B018 - validates the workspace box (raises GridError)

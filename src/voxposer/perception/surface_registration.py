@@ -32,7 +32,7 @@ from scipy import ndimage
 from scipy.spatial import cKDTree
 from scipy.spatial.transform import Rotation
 
-from voxposer.errors import ConfigError
+from voxposer.config_checks import require_below, require_int_at_least, require_positive
 
 
 @dataclass(frozen=True)
@@ -81,20 +81,11 @@ class RegistrationConfig:
     max_translation_m: float = 0.03
 
     def __post_init__(self) -> None:
-        for name in ("voxel_m", "match_radius_m", "patch_cell_m", "patch_max_height_m",
-                     "patch_match_m", "patch_trim_m", "max_rotation_deg", "max_translation_m"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and value > 0):
-                raise ConfigError(f"RegistrationConfig.{name} must be > 0; got {value!r}")
-        for name in ("rounds", "patch_min_cells", "patch_max_cells", "min_patches"):
-            value = getattr(self, name)
-            if not (isinstance(value, int) and value >= 1):
-                raise ConfigError(f"RegistrationConfig.{name} must be an int >= 1; got {value!r}")
-        for low, high in (("patch_min_height_m", "patch_max_height_m"),
-                          ("patch_min_cells", "patch_max_cells")):
-            if not getattr(self, low) < getattr(self, high):
-                raise ConfigError(f"RegistrationConfig.{low} must be below {high} "
-                                  f"({getattr(self, high)!r}); got {getattr(self, low)!r}")
+        require_positive(self, "voxel_m", "match_radius_m", "patch_cell_m", "patch_max_height_m",
+                         "patch_match_m", "patch_trim_m", "max_rotation_deg", "max_translation_m")
+        require_int_at_least(self, 1, "rounds", "patch_min_cells", "patch_max_cells", "min_patches")
+        require_below(self, "patch_min_height_m", "patch_max_height_m")
+        require_below(self, "patch_min_cells", "patch_max_cells")
 
 
 @dataclass(frozen=True)

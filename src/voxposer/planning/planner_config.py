@@ -7,6 +7,7 @@ from typing import Literal
 
 import numpy as np
 
+from voxposer.config_checks import require_non_negative
 from voxposer.errors import ConfigError
 from voxposer.valuemaps.cost import CostMapConfig
 
@@ -69,7 +70,4 @@ class PlannerConfig:
             )
         if self.greedy_radius < 1 or self.greedy_max_steps < 1:
             raise ConfigError("PlannerConfig.greedy_radius and greedy_max_steps must be >= 1")
-        for name in ("grasp_approach_m", "grasp_approach_radius_m"):
-            value = getattr(self, name)
-            if not np.isfinite(value) or value < 0:
-                raise ConfigError(f"PlannerConfig.{name} must be >= 0 [m]; got {value!r}")
+        require_non_negative(self, "grasp_approach_m", "grasp_approach_radius_m")

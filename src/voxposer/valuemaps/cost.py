@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from voxposer.config_checks import require_non_negative, require_positive
 from voxposer.errors import ConfigError, EmptyAffordanceError, OutOfWorkspaceError
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.valuemaps.maps import check_value_map
@@ -67,24 +68,9 @@ class CostMapConfig:
     avoidance_keep_out: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in (
-            "affordance_weight",
-            "avoidance_weight",
-            "avoidance_sigma",
-            "target_clear_radius_cm",
-            "entity_clear_radius_cm",
-            "obstacle_margin_cm",
-            "avoidance_keep_out",
-        ):
-            value = getattr(self, name)
-            if not np.isfinite(value) or value < 0:
-                raise ConfigError(
-                    f"CostMapConfig.{name} must be a finite number >= 0; got {value!r}"
-                )
-        if self.affordance_weight <= 0:
-            raise ConfigError(
-                f"CostMapConfig.affordance_weight must be > 0; got {self.affordance_weight!r}"
-            )
+        require_non_negative(self, "avoidance_weight", "avoidance_sigma", "target_clear_radius_cm",
+                             "entity_clear_radius_cm", "obstacle_margin_cm", "avoidance_keep_out")
+        require_positive(self, "affordance_weight")
         if not 0 < self.target_threshold <= 1:
             raise ConfigError(
                 f"CostMapConfig.target_threshold must be in (0, 1]; got {self.target_threshold!r}"

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Final
 
 from voxposer import tabletop
+from voxposer.config_checks import require_non_negative, require_positive
 from voxposer.envs.config import CameraConfig, ControllerConfig, check_world_timing
 from voxposer.errors import ConfigError
 from voxposer.geometry.voxel_grid import VoxelGrid
@@ -22,16 +23,6 @@ LEVER_TRAVEL: Final = math.radians(45.0)
 HINGE_TRAVEL: Final = math.radians(100.0)
 #: How far the window sash slides [m].
 SASH_TRAVEL: Final = 0.28
-
-
-def _positive(name: str, value: float) -> None:
-    if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
-        raise ConfigError(f"{name} must be a positive finite number; got {value!r}")
-
-
-def _non_negative(name: str, value: float) -> None:
-    if not (isinstance(value, int | float) and math.isfinite(value) and value >= 0):
-        raise ConfigError(f"{name} must be a non-negative finite number; got {value!r}")
 
 
 def _below(name: str, value: float, limit: float, what: str) -> None:
@@ -64,10 +55,8 @@ class DoorConfig:
     hinge_friction: float = 0.2
 
     def __post_init__(self) -> None:
-        for name in ("success_angle", "unlatch_angle", "latch_play", "lever_stiffness"):
-            _positive(f"DoorConfig.{name}", getattr(self, name))
-        for name in ("hinge_damping", "hinge_friction"):
-            _non_negative(f"DoorConfig.{name}", getattr(self, name))
+        require_positive(self, "success_angle", "unlatch_angle", "latch_play", "lever_stiffness")
+        require_non_negative(self, "hinge_damping", "hinge_friction")
         _below("DoorConfig.unlatch_angle", self.unlatch_angle, LEVER_TRAVEL, "the lever's travel")
         _below("DoorConfig.success_angle", self.success_angle, HINGE_TRAVEL, "the hinge's travel")
         _below("DoorConfig.latch_play", self.latch_play, self.success_angle, "success_angle")
@@ -88,9 +77,8 @@ class WindowConfig:
     damping: float = 15.0
 
     def __post_init__(self) -> None:
-        for name in ("success_offset", "frictionloss"):
-            _positive(f"WindowConfig.{name}", getattr(self, name))
-        _non_negative("WindowConfig.damping", self.damping)
+        require_positive(self, "success_offset", "frictionloss")
+        require_non_negative(self, "damping")
         _below("WindowConfig.success_offset", self.success_offset, SASH_TRAVEL, "the sash's travel")
 
 
@@ -118,10 +106,8 @@ class FridgeConfig:
     hinge_friction: float = 0.1
 
     def __post_init__(self) -> None:
-        for name in ("success_angle", "seal_force", "seal_range"):
-            _positive(f"FridgeConfig.{name}", getattr(self, name))
-        for name in ("hinge_damping", "hinge_friction"):
-            _non_negative(f"FridgeConfig.{name}", getattr(self, name))
+        require_positive(self, "success_angle", "seal_force", "seal_range")
+        require_non_negative(self, "hinge_damping", "hinge_friction")
         _below("FridgeConfig.success_angle", self.success_angle, HINGE_TRAVEL, "the hinge's travel")
         _below("FridgeConfig.seal_range", self.seal_range, self.success_angle, "success_angle")
 
@@ -176,11 +162,11 @@ class ArticulatedConfig:
     controller: ControllerConfig = field(default_factory=ControllerConfig)
 
     def __post_init__(self) -> None:
-        _positive("ArticulatedConfig.timestep", self.timestep)
+        require_positive(self, "timestep")
         for name, limit in (("position_noise", 0.1), ("yaw_noise", math.radians(30.0)),
                             ("joint_noise", 0.3)):
             value = getattr(self, name)
-            _non_negative(f"ArticulatedConfig.{name}", value)
+            require_non_negative(self, name)
             if value > limit:
                 raise ConfigError(f"ArticulatedConfig.{name} must be at most {limit:.4g}; "
                                   f"got {value!r}")
