@@ -1,7 +1,7 @@
 """The package's dependencies point one way (the paper's Figure 2): perception is fed by the
 simulator and feeds the programs; programs → value maps → planning → control; base modules
-(errors, geometry, the object catalog, the table layout, table places, the robot protocol,
-PNG figures) import no stage; and no module imports, directly or through others, itself."""
+(errors, config range checks, geometry, the object catalog, the table layout, table places,
+the robot protocol, PNG figures) import no stage; and no module imports, directly or through others, itself."""
 
 from __future__ import annotations
 
@@ -11,10 +11,11 @@ from pathlib import Path
 import pytest
 
 SRC = Path(__file__).resolve().parents[1] / "src" / "voxposer"
-BASE = {"errors", "geometry", "catalog", "tabletop", "places", "robot", "plotting"}
+BASE = {"errors", "config_checks", "geometry", "catalog", "tabletop", "places", "robot", "plotting"}
 #: subpackage → the subpackages and base modules it may import.
 ALLOWED: dict[str, set[str]] = {
     "errors": set(),
+    "config_checks": {"errors"},
     "robot": set(),
     "plotting": {"errors"},
     "geometry": {"errors"},
