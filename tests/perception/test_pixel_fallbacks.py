@@ -87,3 +87,21 @@ def test_a_gray_line_joined_by_other_flat_gray_points_is_kept_where_it_lay() -> 
     found = find_blocks_and_lines(points, colours, {"gray line": prior})["gray line"]
     assert np.count_nonzero(found < len(line)) > 0.9 * len(line)
     assert np.count_nonzero(found >= len(line)) < 0.1 * len(shadow)
+
+
+def test_a_gray_line_partly_covered_is_not_swapped_for_another_gray_strip() -> None:
+    """A block over the gray line leaves two short fragments of it; a longer thin flat gray
+    strip 40 cm away (the robot's base at table height) used to be taken for the line."""
+    rng = np.random.default_rng(4)
+    line = np.column_stack([rng.uniform(-0.1, 0.1, 400), rng.uniform(-0.006, 0.006, 400),
+                            rng.uniform(-0.002, 0.002, 400)])
+    prior = line_prior(line)
+    uncovered = line[np.abs(line[:, 0]) > 0.07]  # two 3 cm ends
+    strip = np.column_stack([rng.uniform(-0.5, -0.35, 150), rng.uniform(0.394, 0.406, 150),
+                             rng.uniform(-0.002, 0.002, 150)])
+    points = np.vstack([uncovered, strip])
+    colours = np.full(len(points), GRAY, dtype=np.int32)
+    without = find_blocks_and_lines(points, colours)["gray line"]
+    assert np.all(without >= len(uncovered)), "the setting: without a prior, the strip wins"
+    found = find_blocks_and_lines(points, colours, {"gray line": prior})["gray line"]
+    assert np.all(found < len(uncovered)) and len(found) > 0.9 * len(uncovered)

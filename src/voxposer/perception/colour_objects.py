@@ -12,7 +12,9 @@ robot's and no compact cluster is left: then, if the block was found before, it 
 the raised gray points in a block-sized box around where it was, re-centred on them
 (:data:`TRACK_HALF_M`). Likewise a gray line that joins other flat gray points (a shadow, the
 robot's base) is kept from where it lay (lines do not move): the flat gray points in the strip it
-occupied (:data:`LINE_TRACK_HALF_WIDTH_M`).
+occupied (:data:`LINE_TRACK_HALF_WIDTH_M`). A gray line found before is looked for there first:
+with a block covering part of it, another thin flat gray strip (30–50 cm away: the robot's base,
+a shadow) outgrew its uncovered fragments and was taken for it (dev records).
 """
 
 from __future__ import annotations
@@ -201,10 +203,12 @@ def find_blocks_and_lines(points: NDArray[np.float64], colours: NDArray[np.int32
             block = _tracked_members(pts, raised, prior)
         if block.any():
             found[f"{colour} block"] = idx[block]
-        line = _line_members(pts, ~raised & ~block, gray=k == GRAY)
         line_was = (priors or {}).get(f"{colour} line")
-        if k == GRAY and not line.any() and line_was is not None:
+        line = np.zeros(len(pts), dtype=bool)
+        if k == GRAY and line_was is not None:  # lines do not move: where it lay first
             line = _tracked_line(pts, ~raised & ~block, line_was)
+        if not line.any():
+            line = _line_members(pts, ~raised & ~block, gray=k == GRAY)
         if line.any():
             found[f"{colour} line"] = idx[line]
     return found
