@@ -86,3 +86,39 @@ def test_cm2index_takes_any_single_direction_word(api: LMPAPI) -> None:
     assert np.array_equal(api.cm2index(10, "rear"), api.cm2index(10, "back"))
     assert np.array_equal(api.cm2index(10, "leftmost"), api.cm2index(10, "left"))
     assert np.array_equal(api.cm2index(10, "Up"), api.cm2index(10, [0, 0, 1]))
+
+
+def test_end_of_a_slanted_line_lies_on_its_axis_not_its_box(world) -> None:
+    """A line 8.6° off the y axis: its box's end (the box's y edge at the centre's x) lies
+    ~1 cm off the line's axis, ``end_of`` on it (within half a voxel)."""
+    import math
+
+    from voxposer.envs import SceneLayout
+    from voxposer.lmp.api import LMPAPI
+    from voxposer.lmp.scene import RobotScene
+    from voxposer.pipeline import simulated_perceiver
+
+    yaw = math.pi / 2 + 0.15
+    layout = SceneLayout(poses={"yellow line": (-0.2, 0.0, yaw)}, extra_blocks=(0, 0),
+                         extra_lines=(0, 0), cabinet=False)
+    world.reset(np.random.default_rng(0), layout)
+    api = LMPAPI(RobotScene(simulated_perceiver(world, "ground-truth"), world))
+    line = api.detect("yellow line")
+    u = np.array([math.cos(yaw), math.sin(yaw)])
+    u = u if u[1] > 0 else -u  # toward the high (+y) end
+    centre = world.object_position("yellow line")[:2]
+    half = world.config.line_length / 2
+
+    def off_axis(voxel) -> float:
+        rel = api.grid.voxel_to_world(np.asarray(voxel, dtype=float))[:2] - centre
+        return abs(float(rel @ np.array([-u[1], u[0]])))
+
+    high, low_in = api.end_of(line, "high"), api.end_of(line, "low", cm_in=4)
+    assert off_axis(high) < 0.005 and off_axis(low_in) < 0.005  # voxels are 1 cm
+    far = api.grid.voxel_to_world(np.asarray(high, dtype=float))[:2]
+    assert np.linalg.norm(far - (centre + half * u)) < 0.015
+    boxed = line.position.copy()
+    boxed[1] = line.aabb[1][1]
+    assert off_axis(boxed) > 0.008  # the box's end: what the programs used before
+    with pytest.raises(SideError, match="'low' or 'high'"):
+        api.end_of(line, "far")

@@ -139,6 +139,27 @@ class LMPAPI:
         mask[tuple(sl)] = True
         return mask
 
+    def end_of(self, obj: Any, end: str = "high", cm_in: float = 0.0) -> NDArray[np.int64]:
+        """Voxel at an end of ``obj``'s long axis (a line's: the principal axis of its
+        footprint, not its box, so a line at a slant keeps it), ``cm_in`` centimetres in from
+        that end, at the object's centre height. ``end``: "low" or "high", the end with the
+        smaller or larger coordinate along its box's longer horizontal side (x or y)."""
+        o = self._obj(obj)
+        if end not in ("low", "high"):
+            raise SideError(f"end_of(..., end={end!r}): end must be 'low' or 'high'")
+        lo, hi = o.aabb_world
+        k = 0 if hi[0] - lo[0] >= hi[1] - lo[1] else 1
+        cells = np.argwhere(o.occupancy)
+        xy = self.grid.voxel_to_world(cells)[:, :2] if len(cells) >= 3 else None
+        centre = o.position_world[:2] if xy is None else xy.mean(axis=0)
+        axis = np.eye(2)[k] if xy is None else np.linalg.svd(xy - centre, full_matrices=False)[2][0]
+        axis = axis if axis[k] >= 0 else -axis
+        t = (np.array([lo[:2], hi[:2]]) - centre) @ axis if xy is None else (xy - centre) @ axis
+        reach = (float(t.max()) if end == "high" else float(t.min()))
+        reach -= np.sign(reach) * float(cm_in) / 100.0
+        point = np.array([*(centre + reach * axis), o.position_world[2]])
+        return self._to_voxel(point, f"the {end} end of the {o.name}")
+
     def _table_place(self, o: ObjectView, where: str, signs: dict[int, int]) -> Place | None:
         """The named table place ``where`` picks on ``o`` (None: not the table, a "half", an axis
         token, no horizontal word, or a table unlike the world's)."""
@@ -184,6 +205,7 @@ class LMPAPI:
             "detect": self.detect,
             "point_beside": self.point_beside,
             "point_on": self.point_on,
+            "end_of": self.end_of,
             "region_mask": self.region_mask,
             "set_voxel_by_radius": self.set_voxel_by_radius,
             "cm2index": self.cm2index,

@@ -106,14 +106,12 @@ class PushAlongLine(BenchTask):
                       f"affordance_map = get_affordance_map('{query}')",
                       "execute(movable, affordance_map=affordance_map)")
             # the near end's point lies ENTRY_CM inside the line: the block meets the line
-            # at a slant there instead of being pushed sideways onto its very end
-            end = (f"lo[{{k}}] + cm2index({ENTRY_CM}, 'xy'[{{k}}])" if word == "near"
-                   else "hi[{k}]")
+            # at a slant there instead of being pushed sideways onto its very end; ends on the
+            # line's own axis (end_of), not its box's (a line at a slant)
+            end = f"end_of(line, 'low', cm_in={ENTRY_CM})" if word == "near" else "end_of(line, 'high')"
             progs.add("get_affordance_map", query, "affordance_map = get_empty_affordance_map()",
                       f"line = parse_query_obj('{line}')", f"block = parse_query_obj('{obj}')",
-                      "lo, hi = line.aabb", "x, y, _ = line.position",
-                      "if hi[0] - lo[0] > hi[1] - lo[1]:", f"    x = {end.format(k=0)}", "else:",
-                      f"    y = {end.format(k=1)}", "affordance_map[x, y, block.position[2]] = 1",
+                      f"x, y, _ = {end}", "affordance_map[x, y, block.position[2]] = 1",
                       "ret_val = affordance_map")
         return progs
 
