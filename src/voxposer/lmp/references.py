@@ -11,8 +11,8 @@ detected positions (a place: its point), and the phrase is replaced by the winne
 by at least :data:`MIN_MARGIN_M`; otherwise the words stay as said and the model reads them.
 
 Directions are the LMP API's (:mod:`voxposer.lmp.api`): front +x, back −x, right +y, left −y.
-"The robot" (and "you", "me") is the robot's detected points (nearest is nearest to any of
-them); another object is its detected centre. Positions in metres.
+"The robot" (and "you", "me") is the robot's detected points (how near: the
+:data:`ROBOT_NEAR_PERCENTILE` of the distances to them); another object is its detected centre. Positions in metres.
 """
 
 from __future__ import annotations
@@ -32,6 +32,10 @@ from voxposer.places import PLACES
 
 #: the winner of a relation must beat the runner-up by this much [m] to be named.
 MIN_MARGIN_M: Final = 0.02
+#: how near something is to the robot: this percentile of its distances to the robot's points
+#: (the nearest of them but a few: a handful of stray points labelled robot by a noisy
+#: perception made a far side of the table "nearest the robot" when the nearest point counted).
+ROBOT_NEAR_PERCENTILE: Final = 10.0
 #: kinds of object a relation may pick among (the last word of a scene name).
 KINDS: Final = ("block", "line", "cube")
 #: direction word → (axis, sign) in the world frame.
@@ -112,7 +116,8 @@ def _choice(match: re.Match[str], where: NDArray[np.float64], locate: Locate,
         if g["ref"] in _ROBOT_WORDS:
             if robot is None or len(robot) == 0:
                 return None
-            d = np.array([np.min(np.linalg.norm(robot[:, :2] - w[:2], axis=1)) for w in where])
+            d = np.array([np.percentile(np.linalg.norm(robot[:, :2] - w[:2], axis=1),
+                                        ROBOT_NEAR_PERCENTILE) for w in where])
         else:
             assert ref_name is not None
             d = np.linalg.norm(where[:, :2] - locate(ref_name)[:2], axis=1)
