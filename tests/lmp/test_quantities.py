@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.lmp.test_references import _FirstRequest
-from voxposer.errors import LLMError
-from voxposer.lmp import LMPConfig, LMPRuntime, RecordingHandler, Transcript, make_tabletop_scene
+from tests.lmp.test_references import planner_request
 from voxposer.lmp.quantities import plain_quantities
 
 
@@ -35,11 +33,6 @@ def test_other_words_and_plain_centimetres_stay(text: str) -> None:
 
 
 def test_the_planner_reads_centimetres_and_the_transcript_says_so() -> None:
-    backend, transcript = _FirstRequest(), Transcript()
-    rt = LMPRuntime(make_tabletop_scene(), backend, handler=RecordingHandler(),
-                    config=LMPConfig(), transcript=transcript)
-    with pytest.raises(LLMError):
-        rt.run("hover two inches above the blue block")
-    assert backend.requests[0].messages[-1].content.endswith("hover 5.1 cm above the blue block")
-    events = [e for e in transcript.events if e["event"] == "quantity_said_plainly"]
+    asked, events = planner_request("hover two inches above the blue block", "quantity_said_plainly")
+    assert asked.endswith("hover 5.1 cm above the blue block")
     assert [(e["said"], e["cm"]) for e in events] == [("two inches", 5.1)]

@@ -77,18 +77,25 @@ class _FirstRequest:
         raise LLMError("no model here")
 
 
+def planner_request(instruction: str, event: str, **config: object) -> tuple[str, list[dict]]:
+    """What the planner is asked for ``instruction`` on the box tabletop (the last message)
+    and the transcript's ``event`` events, with ``LMPConfig(**config)``."""
+    backend, transcript = _FirstRequest(), Transcript()
+    rt = LMPRuntime(make_tabletop_scene(), backend, handler=RecordingHandler(),
+                    config=LMPConfig(**config), transcript=transcript)
+    with pytest.raises(LLMError):
+        rt.run(instruction)
+    return (backend.requests[0].messages[-1].content,
+            [e for e in transcript.events if e["event"] == event])
+
+
 @pytest.mark.parametrize("ground", [True, False])
 def test_the_planner_reads_the_grounded_instruction_and_the_transcript_says_so(ground: bool) -> None:
     scene = make_tabletop_scene()
     ys = {n: scene.detect(n).position[1] for n in scene.object_names if n.endswith("block")}
     leftmost = min(ys, key=ys.__getitem__)
-    backend, transcript = _FirstRequest(), Transcript()
-    rt = LMPRuntime(scene, backend, handler=RecordingHandler(),
-                    config=LMPConfig(ground_references=ground), transcript=transcript)
-    with pytest.raises(LLMError):
-        rt.run("push the leftmost block to the front")
-    asked = backend.requests[0].messages[-1].content
-    events = [e for e in transcript.events if e["event"] == "reference_grounded"]
+    asked, events = planner_request("push the leftmost block to the front", "reference_grounded",
+                                    ground_references=ground)
     if ground:
         assert asked.endswith(f"push the {leftmost} to the front")
         assert [(e["phrase"], e["name"]) for e in events] == [("the leftmost block", leftmost)]

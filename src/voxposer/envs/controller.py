@@ -111,11 +111,14 @@ class PoseController:
         limit = self._joint_step_limit(speed_scale)
         q, path = self.q_cmd.copy(), list[NDArray[np.float64]]()
         while not np.allclose(q, q_goal, atol=1e-6) and len(path) < 100_000:
-            q = np.clip(q + np.clip(q_goal - q, -limit, limit), self.ik.lower, self.ik.upper)
+            q = self._stepped(q, q_goal, limit)
             path.append(q)
         return np.array(path).reshape(-1, len(q))
 
+    def _stepped(self, q: NDArray[np.float64], q_target: NDArray[np.float64], limit: float
+                 ) -> NDArray[np.float64]:
+        """``q`` moved at most ``limit`` [rad] per joint toward ``q_target``, within the limits."""
+        return np.clip(q + np.clip(q_target - q, -limit, limit), self.ik.lower, self.ik.upper)
+
     def _apply(self, q_target: NDArray[np.float64], speed_scale: float) -> None:
-        limit = self._joint_step_limit(speed_scale)
-        dq = np.clip(q_target - self.q_cmd, -limit, limit)
-        self.q_cmd = np.clip(self.q_cmd + dq, self.ik.lower, self.ik.upper)
+        self.q_cmd = self._stepped(self.q_cmd, q_target, self._joint_step_limit(speed_scale))

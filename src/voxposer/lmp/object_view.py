@@ -15,6 +15,11 @@ from voxposer.perception.field_mapping import FieldMapping
 _KEYS: Final = ("name", "position", "aabb", "occupancy", "normal", "position_world", "aabb_world")
 
 
+def detection_field(det: Any, key: str) -> Any:
+    """Field ``key`` of a perception result (attribute or item access)."""
+    return det[key] if isinstance(det, Mapping) else getattr(det, key)
+
+
 @dataclass(frozen=True, eq=False)
 class ObjectView(FieldMapping):
     """A detected object in voxel coordinates; also readable like a dict (``obj["position"]``).
@@ -48,7 +53,7 @@ class ObjectView(FieldMapping):
         """Build from a perception result (world frame, attribute or item access)."""
 
         def field(key: str) -> Any:
-            return det[key] if isinstance(det, Mapping) else getattr(det, key)
+            return detection_field(det, key)
 
         pos = np.array(field("position"), float).reshape(3)
         aabb = np.array(field("aabb"), float).reshape(2, 3)

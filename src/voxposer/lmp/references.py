@@ -26,6 +26,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.errors import VoxPoserError
+from voxposer.lmp.object_view import detection_field
+from voxposer.lmp.sides import direction_sign
 from voxposer.lmp.transcript import Transcript
 from voxposer.perception.names import normalize_name
 from voxposer.places import PLACES
@@ -38,12 +40,9 @@ MIN_MARGIN_M: Final = 0.02
 ROBOT_NEAR_PERCENTILE: Final = 10.0
 #: kinds of object a relation may pick among (the last word of a scene name).
 KINDS: Final = ("block", "line", "cube")
-#: direction word → (axis, sign) in the world frame.
-DIRECTIONS: Final[dict[str, tuple[int, float]]] = {
-    "left": (1, -1.0), "right": (1, 1.0), "front": (0, 1.0), "back": (0, -1.0),
-    "rear": (0, -1.0)}
-_SUPERLATIVE: Final = {"leftmost": "left", "rightmost": "right", "frontmost": "front",
-                       "backmost": "back", "rearmost": "rear"}
+#: the direction words a relation reads (their axes and signs: :func:`voxposer.lmp.sides.direction_sign`).
+_DIRECTIONS: Final = ("left", "right", "front", "back", "rear")
+_SUPERLATIVES: Final = tuple(f"{d}most" for d in _DIRECTIONS)
 _ORDINALS: Final = {"first": 0, "1st": 0, "second": 1, "2nd": 1, "third": 2, "3rd": 2,
                     "fourth": 3, "4th": 3}
 _ROBOT_WORDS: Final = ("the robot", "you", "me", "the robot arm", "the arm", "the robot's base")
@@ -51,6 +50,8 @@ _NEAR: Final = ("nearest", "closest", "next", "beside", "by")
 _FAR: Final = ("farthest", "furthest", "away")
 #: the table's places a relation may pick among: "side" → its sides, "corner" → its corners.
 _PLACE_KINDS: Final = ("side", "corner")
+#: each table place's point [m], shape (3,), on the table (z 0).
+_PLACE_POINTS: Final = {p.name: np.array([*p.point, 0.0]) for p in PLACES.values()}
 
 
 @dataclass(frozen=True)
@@ -70,8 +71,8 @@ Locate = Callable[[str], NDArray[np.float64]]
 
 def _patterns(refs: str) -> list[re.Pattern[str]]:
     kind = r"(?P<kind>" + "|".join(KINDS) + r")"
-    dirs = r"(?P<dir>" + "|".join(DIRECTIONS) + r")"
-    sup = r"(?P<sup>" + "|".join(_SUPERLATIVE) + r")"
+    dirs = r"(?P<dir>" + "|".join(_DIRECTIONS) + r")"
+    sup = r"(?P<sup>" + "|".join(_SUPERLATIVES) + r")"
     nth = r"(?P<nth>" + "|".join(_ORDINALS) + r")"
     rel = r"(?P<rel>" + "|".join(_NEAR + _FAR) + r")"
     that = r"(?:(?:that is|that's|which is) )?"
@@ -90,8 +91,9 @@ def _patterns(refs: str) -> list[re.Pattern[str]]:
 
 def _along(direction: str, where: NDArray[np.float64]) -> NDArray[np.float64]:
     """How far each of ``where`` (N, 3) [m] lies toward ``direction``."""
-    axis, sign = DIRECTIONS[direction]
-    return sign * where[:, axis]
+    axis_sign = direction_sign(direction)
+    assert axis_sign is not None, direction
+    return axis_sign[1] * where[:, axis_sign[0]]
 
 
 def _choice(match: re.Match[str], where: NDArray[np.float64], locate: Locate,
@@ -100,7 +102,7 @@ def _choice(match: re.Match[str], where: NDArray[np.float64], locate: Locate,
     centres, shape (N, 3) [m]) and by how much it is singled out [m]; None when the
     relation's reference cannot be placed."""
     g = {k: (v.lower() if v else v) for k, v in match.groupdict().items()}
-    direction = _SUPERLATIVE.get(g.get("sup") or "") or g.get("dir")
+    direction = g.get("sup") or g.get("dir")
     if g.get("nth") is not None:
         toward = _along(direction or "left", where)
         order = np.argsort(-toward)  # the first is the one farthest toward the direction
@@ -155,7 +157,7 @@ def ground_references(text: str, names: Sequence[str], locate: Locate,
             kind = match.group("kind").lower()
             if kind in _PLACE_KINDS:
                 cands = [p.name for p in PLACES.values() if p.kind == kind]
-                spot = {p.name: np.array([*p.point, 0.0]) for p in PLACES.values()}.__getitem__
+                spot = _PLACE_POINTS.__getitem__
             else:
                 cands = [n for n in objects if n.lower().split()[-1] == kind and n != ref_name]
                 spot = locate
@@ -188,20 +190,18 @@ def grounded_instruction(instruction: str, scene: Any, transcript: Transcript) -
         if "robot" not in names:
             return None
         try:
-            return np.asarray(_field(scene.detect("robot"), "points"), dtype=np.float64).reshape(-1, 3)
+            points = detection_field(scene.detect("robot"), "points")
+            return np.asarray(points, dtype=np.float64).reshape(-1, 3)
         except VoxPoserError:
             return None
 
     text, done = ground_references(
         instruction, names,
-        lambda n: np.asarray(_field(scene.detect(n), "position"), dtype=np.float64), robot_points)
+        lambda n: np.asarray(detection_field(scene.detect(n), "position"), dtype=np.float64),
+        robot_points)
     for g in done:
         transcript.write("reference_grounded", instruction=instruction, **g.to_json())
     return text
-
-
-def _field(obj: Any, key: str) -> Any:
-    return obj[key] if isinstance(obj, dict) else getattr(obj, key)
 
 
 __all__ = ["MIN_MARGIN_M", "Grounding", "ground_references", "grounded_instruction"]
