@@ -2,7 +2,8 @@
 checklist over the attempts of one planner query.
 
 The first plan with gaps (:func:`voxposer.lmp.checklist.clause_gaps`: a clause of the
-instruction no sub-task carries; :func:`voxposer.lmp.intent_checklist.intent_gaps`: a
+instruction no sub-task carries; :func:`voxposer.lmp.unasked.unasked_gaps`: a sub-task doing
+what the instruction does not ask; :func:`voxposer.lmp.intent_checklist.intent_gaps`: a
 constraint of a sub-task no post-condition measures) is sent back once with the gaps listed;
 after that the plan with fewer gaps runs — the correction, unless it left out more than the
 first. When the first plan's only gaps were post-conditions, its sub-tasks run unchanged with
@@ -16,6 +17,7 @@ import ast
 
 from voxposer.lmp.checklist import ClauseGap, checklist_message, clause_gaps, planned_subtasks
 from voxposer.lmp.intent_checklist import intent_gaps, intent_message
+from voxposer.lmp.unasked import KINDS as UNASKED, unasked_gaps, unasked_message
 
 POST_CONDITION: str = "post-condition"
 
@@ -62,10 +64,12 @@ def graft_conditions(plan: str, correction: str) -> str | None:
 
 def review_message(instruction: str, gaps: list[ClauseGap]) -> str:
     """The correction the planner reads for ``gaps`` of both checklists."""
-    clauses = [g for g in gaps if g.kind != POST_CONDITION]
+    clauses = [g for g in gaps if g.kind not in (POST_CONDITION, *UNASKED)]
     parts = []
     if clauses:
         parts.append(checklist_message(instruction, clauses))
+    if unasked := unasked_message([g for g in gaps if g.kind in UNASKED]):
+        parts.append(unasked)
     post = intent_message([g for g in gaps if g.kind == POST_CONDITION])
     if post:
         parts.append(post)
@@ -95,7 +99,8 @@ class PlanReview:
         subtasks = planned_subtasks(code)
         if subtasks is None:
             return None
-        found = clause_gaps(self.instruction, subtasks) if self.clauses else []
+        found = (clause_gaps(self.instruction, subtasks)
+                 + unasked_gaps(self.instruction, subtasks)) if self.clauses else []
         if self.post_conditions:
             found += intent_gaps(code)
         return found

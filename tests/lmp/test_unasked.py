@@ -1,0 +1,98 @@
+"""What a plan does that its instruction never asks is named, and correct plans are left alone."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.lmp.reference_plans import reference_plans
+from voxposer.bench.intent_reference import with_expectation
+from voxposer.bench.multistep import ENTRIES
+from voxposer.bench.paraphrases import paraphrase
+from voxposer.bench.task import episode_rng
+from voxposer.bench.tasks import TASKS
+from voxposer.lmp.checklist import planned_subtasks
+from voxposer.lmp.plan_review import PlanReview
+from voxposer.lmp.unasked import (
+    AVOIDED_DESTINATION,
+    UNASKED_GRASP,
+    UNNAMED_PLACE,
+    avoided_objects,
+    unasked_gaps,
+)
+
+PUSH_AWAY = ("push the green block to the front right corner of the table and keep it away "
+             "from the yellow block")
+
+
+def _gaps(instruction: str, code: str) -> set[tuple[str, str]]:
+    return {(g.kind, g.words) for g in unasked_gaps(instruction, planned_subtasks(code) or [])}
+
+
+def test_a_grasp_and_carry_for_a_push_is_named() -> None:
+    code = ("composer('grasp the green block')\ncomposer('move the green block to the front "
+            "right corner of the table')\ncomposer('release the green block')")
+    assert _gaps(PUSH_AWAY, code) == {(UNASKED_GRASP, "grasp the green block"),
+                                      (UNASKED_GRASP, "release the green block")}
+    assert _gaps("pick up the green block and put it on the front right corner of the table",
+                 code) == set()
+
+
+def test_a_motion_around_the_object_to_avoid_is_named() -> None:
+    instruction = ("push the yellow block to the right side of the table and go around the "
+                   "pink block")
+    assert avoided_objects(instruction) == {"pink block"}
+    code = ("composer('push the yellow block to the right side of the table')\n"
+            "composer('move around the pink block')")
+    assert _gaps(instruction, code) == {(AVOIDED_DESTINATION, "move around the pink block")}
+    kept = ("composer('push the yellow block to the right side of the table while staying away "
+            "from the pink block')")
+    assert _gaps(instruction, kept) == set()
+
+
+def test_an_object_referred_to_again_is_not_only_to_be_avoided() -> None:
+    assert avoided_objects("move to the back side of the table while staying away from the red "
+                           "block, and then hover 10cm over it") == set()
+
+
+def test_a_place_the_instruction_does_not_name_is_named() -> None:
+    instruction = ("push the pink block to the right side of the table and keep it away from "
+                   "the blue block")
+    code = ("composer('push the pink block to the right side of the table')\n"
+            "composer('push the pink block to the back side of the table while staying away "
+            "from the blue block')")
+    assert {k for k, _ in _gaps(instruction, code)} == {UNNAMED_PLACE}
+
+
+def test_the_review_sends_an_unasked_grasp_back_with_it_named() -> None:
+    review = PlanReview(PUSH_AWAY, max_attempts=3, post_conditions=False)
+    plan = ("composer('grasp the green block')\ncomposer('push the green block to the front "
+            "right corner of the table while staying away from the yellow block')")
+    code, correction, gaps = review.review(plan, attempt=1)
+    assert code == plan and correction is not None
+    assert "'grasp the green block'" in correction and "asks no grasp" in correction
+    fixed = ("composer('push the green block to the front right corner of the table while "
+             "staying away from the yellow block')")
+    assert review.review(fixed, attempt=2) == (fixed, None, [])
+
+
+@pytest.mark.parametrize("task", sorted(TASKS))
+def test_reference_plans_do_nothing_unasked(task: str) -> None:
+    """Neither the templates nor the dev rewordings send a reference plan back."""
+    for instruction, code in reference_plans(task):
+        assert _gaps(instruction, code) == set(), instruction
+    for seed in range(6):
+        attrs = TASKS[task].sample_attributes(episode_rng(task, "seen", seed), "seen")
+        code = with_expectation(TASKS[task].reference(attrs), task, attrs).code(
+            "planner", TASKS[task].instruction(attrs))
+        worded = paraphrase(task, attrs, "dev", seed)
+        assert _gaps(worded, code) == set(), worded
+
+
+@pytest.mark.parametrize("name", sorted(ENTRIES))
+def test_multistep_reference_plans_do_nothing_unasked(name: str) -> None:
+    entry = ENTRIES[name]
+    for seed in range(4):
+        attrs = entry.sample_attributes(episode_rng(name, "seen", seed), "seen")
+        instruction = entry.instruction(attrs)
+        code = entry.reference(attrs).code("planner", instruction)
+        assert _gaps(instruction, code) == set(), instruction
