@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from voxposer.lmp.plan_review import PlanReview, graft_conditions
+from voxposer.lmp.plan_review import POST_CONDITION, PlanReview, graft_conditions
+from voxposer.lmp.unasked import UNASKED_GRASP
 
 STAY = "move to the back side of the table while staying on the top of the yellow block"
 
@@ -60,3 +61,19 @@ def test_clause_and_post_condition_gaps_are_named_in_one_correction() -> None:
     assert "'red'" in message and "speed('gripper', <scale>)" in message
     only_clauses = PlanReview(instruction, max_attempts=3, post_conditions=False)
     assert [g.kind for g in only_clauses.gaps(plan) or []] == ["colour", "avoidance clause"]
+
+
+def test_a_correction_that_drops_the_plan_for_one_post_condition_is_not_run() -> None:
+    """Asked about one sub-task, a small model answers with it alone: the plan with fewer clause
+    gaps runs, although both have as many gaps in all."""
+    instruction = "push the yellow block to the right side of the table"
+    review = PlanReview(instruction, max_attempts=3, clauses=True, post_conditions=True)
+    plan = ("composer('grasp the yellow block')\nexpect(holding('yellow block'))\n"
+            "composer('push the yellow block to the right side of the table')\n"
+            "expect(away('gripper', 'yellow block'))")
+    _, correction, gaps = review.review(plan, attempt=1)
+    assert {g.kind for g in gaps} == {UNASKED_GRASP, POST_CONDITION}
+    assert correction is not None and "asks no grasp" in correction
+    fragment = "composer('push the block to the left side of the table')\nexpect(moved('block'))"
+    code, correction, gaps = review.review(fragment, attempt=2)
+    assert len(gaps) == 2 and correction is None and code == plan

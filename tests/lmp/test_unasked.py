@@ -1,4 +1,5 @@
-"""What a plan does that its instruction never asks is named, and correct plans are left alone."""
+"""What a plan does that its instruction never asks is named or mended; correct plans are left
+alone."""
 
 from __future__ import annotations
 
@@ -12,11 +13,13 @@ from voxposer.bench.task import episode_rng
 from voxposer.bench.tasks import TASKS
 from voxposer.lmp.checklist import planned_subtasks
 from voxposer.lmp.plan_review import PlanReview
+from voxposer.lmp.plan_avoid import fold_avoided
+from voxposer.lmp.plan_places import named_places_only
 from voxposer.lmp.unasked import (
-    AVOIDED_DESTINATION,
     UNASKED_GRASP,
     UNNAMED_PLACE,
     avoided_objects,
+    to_avoided,
     unasked_gaps,
 )
 
@@ -37,16 +40,29 @@ def test_a_grasp_and_carry_for_a_push_is_named() -> None:
                  code) == set()
 
 
-def test_a_motion_around_the_object_to_avoid_is_named() -> None:
+def test_a_motion_around_the_object_to_avoid_is_mended_into_the_push() -> None:
     instruction = ("push the yellow block to the right side of the table and go around the "
                    "pink block")
     assert avoided_objects(instruction) == {"pink block"}
+    assert to_avoided("move around the pink block", "pink block")
+    assert not to_avoided("move away from the pink block", "pink block")
     code = ("composer('push the yellow block to the right side of the table')\n"
-            "composer('move around the pink block')")
-    assert _gaps(instruction, code) == {(AVOIDED_DESTINATION, "move around the pink block")}
+            "expect(on('yellow block', 'table', 'right side'))\n"
+            "composer('move around the pink block')\n"
+            "expect(away('gripper', 'pink block', cm=10))\n"
+            "composer('back to default pose')")
+    assert fold_avoided(instruction, code) == (
+        "composer('push the yellow block to the right side of the table while staying away "
+        "from the pink block')\nexpect(on('yellow block', 'table', 'right side'))\n"
+        "composer('back to default pose')")
     kept = ("composer('push the yellow block to the right side of the table while staying away "
             "from the pink block')")
-    assert _gaps(instruction, kept) == set()
+    assert fold_avoided(instruction, kept) is None
+    assert fold_avoided("go to the front side of the table while avoiding the pink block",
+                        "composer('move to the front side of the table')\n"
+                        "composer('go around the pink block')") == (
+        "composer('move to the front side of the table while staying away from the pink "
+        "block')")
 
 
 def test_an_object_referred_to_again_is_not_only_to_be_avoided() -> None:
@@ -80,12 +96,16 @@ def test_reference_plans_do_nothing_unasked(task: str) -> None:
     """Neither the templates nor the dev rewordings send a reference plan back."""
     for instruction, code in reference_plans(task):
         assert _gaps(instruction, code) == set(), instruction
+        assert fold_avoided(instruction, code) is None, instruction
+        assert named_places_only(instruction, code) is None, instruction
     for seed in range(6):
         attrs = TASKS[task].sample_attributes(episode_rng(task, "seen", seed), "seen")
         code = with_expectation(TASKS[task].reference(attrs), task, attrs).code(
             "planner", TASKS[task].instruction(attrs))
         worded = paraphrase(task, attrs, "dev", seed)
         assert _gaps(worded, code) == set(), worded
+        assert fold_avoided(worded, code) is None, worded
+        assert named_places_only(worded, code) is None, worded
 
 
 @pytest.mark.parametrize("name", sorted(ENTRIES))
@@ -96,3 +116,5 @@ def test_multistep_reference_plans_do_nothing_unasked(name: str) -> None:
         instruction = entry.instruction(attrs)
         code = entry.reference(attrs).code("planner", instruction)
         assert _gaps(instruction, code) == set(), instruction
+        assert fold_avoided(instruction, code) is None, instruction
+        assert named_places_only(instruction, code) is None, instruction

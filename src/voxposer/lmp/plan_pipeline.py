@@ -13,6 +13,8 @@ from collections.abc import Callable
 from typing import Final, NamedTuple
 
 from voxposer.lmp.plan_along import push_along_ends
+from voxposer.lmp.plan_avoid import fold_avoided
+from voxposer.lmp.plan_places import named_places_only
 from voxposer.lmp.plan_carry import carry_stated_constraints
 from voxposer.lmp.plan_completion import (
     LIFT_SUBTASK,
@@ -57,6 +59,10 @@ STEPS: Final[tuple[Step, ...]] = (
          "added", "a sub-task's speed asked the opposite of the instruction's"),
     Step("carry_stay_on", _fixed("the instruction's staying-on clause", carry_stay_on),
          "added", "no sub-task carried it"),
+    Step("fold_avoided", _fixed("the avoidance in the motion it constrains", fold_avoided),
+         "added", "a sub-task went to the object the instruction only asks to keep away from"),
+    Step("named_places_only", _fixed("the instruction's one table place", named_places_only),
+         "added", "a sub-task went to a table place the instruction does not name"),
     Step("carry_stated_constraints", lambda q, c, n: _listed(carry_stated_constraints(q, c, n)),
          "added", "a post-condition kept a distance or speed the sub-task's words did not"),
     Step("hover_over", _fixed("the hover as the hand's motion", hover_over),

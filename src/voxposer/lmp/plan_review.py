@@ -5,8 +5,9 @@ The first plan with gaps (:func:`voxposer.lmp.checklist.clause_gaps`: a clause o
 instruction no sub-task carries; :func:`voxposer.lmp.unasked.unasked_gaps`: a sub-task doing
 what the instruction does not ask; :func:`voxposer.lmp.intent_checklist.intent_gaps`: a
 constraint of a sub-task no post-condition measures) is sent back once with the gaps listed;
-after that the plan with fewer gaps runs — the correction, unless it left out more than the
-first. When the first plan's only gaps were post-conditions, its sub-tasks run unchanged with
+after that the plan with fewer gaps runs — the correction, unless it has more than the
+first (clause gaps counted before post-condition gaps: a correction that answers with one
+sub-task and its post-condition has dropped the rest of the plan). When the first plan's only gaps were post-conditions, its sub-tasks run unchanged with
 the correction's post-conditions grafted on (:func:`graft_conditions`): a small model asked to
 restate what to measure often re-plans the motions too (adds "back to default pose").
 """
@@ -70,10 +71,19 @@ def review_message(instruction: str, gaps: list[ClauseGap]) -> str:
         parts.append(checklist_message(instruction, clauses))
     if unasked := unasked_message([g for g in gaps if g.kind in UNASKED]):
         parts.append(unasked)
-    post = intent_message([g for g in gaps if g.kind == POST_CONDITION])
+    unasked_subtasks = [f"composer({g.words!r})" for g in gaps if g.kind in UNASKED]
+    post = intent_message([g for g in gaps if g.kind == POST_CONDITION
+                           and not any(s in g.words for s in unasked_subtasks)])
     if post:
         parts.append(post)
     return " ".join(parts)
+
+
+def _weight(gaps: list[ClauseGap]) -> tuple[int, int]:
+    """How much a plan's gaps weigh when two plans are compared: what the plan leaves out or
+    does unasked first, then the post-conditions it lacks (fewer is better)."""
+    post = sum(g.kind == POST_CONDITION for g in gaps)
+    return len(gaps) - post, post
 
 
 class PlanReview:
@@ -92,7 +102,7 @@ class PlanReview:
         self.max_attempts = max_attempts
         self.clauses = clauses
         self.post_conditions = post_conditions
-        self._first: tuple[str, int, bool] | None = None
+        self._first: tuple[str, tuple[int, int], bool] | None = None
 
     def gaps(self, code: str) -> list[ClauseGap] | None:
         """Every gap of ``code`` (None when it does not parse: running it reports that)."""
@@ -112,7 +122,7 @@ class PlanReview:
             return code, None, []
         if gaps and self._first is None and attempt < self.max_attempts:
             post_only = all(g.kind == POST_CONDITION for g in gaps)
-            self._first = (code, len(gaps), post_only)
+            self._first = (code, _weight(gaps), post_only)
             return code, review_message(self.instruction, gaps), gaps
         first, self._first = self._first, None
         if first is None:
@@ -120,8 +130,8 @@ class PlanReview:
         plan, count, post_only = first
         if post_only and (grafted := graft_conditions(plan, code)) is not None:
             found = self.gaps(grafted) or []
-            return (grafted, None, found) if len(found) < count else (plan, None, found)
-        return (plan, None, gaps) if count < len(gaps) else (code, None, gaps)
+            return (grafted, None, found) if _weight(found) < count else (plan, None, found)
+        return (plan, None, gaps) if count < _weight(gaps) else (code, None, gaps)
 
 
 __all__ = ["POST_CONDITION", "PlanReview", "graft_conditions", "plain_steps", "review_message"]

@@ -95,6 +95,12 @@ class LMPConfig:
         carry_stated_constraints: a hand motion whose post-condition keeps a distance from
             an object or a speed near it, and whose words do not, gets the words
             (:func:`~voxposer.lmp.plan_carry.carry_stated_constraints`).
+        fold_avoided: a sub-task that moves to or around the object the instruction only asks
+            to keep away from is dropped and the avoidance said in the plan's pushes or motions
+            (:func:`~voxposer.lmp.plan_avoid.fold_avoided`).
+        named_places_only: a sub-task's table place the instruction does not name becomes the
+            one it names, and a motion then said twice is said once
+            (:func:`~voxposer.lmp.plan_places.named_places_only`).
         push_along_ends: a one-sub-task push of a block along a line becomes the examples'
             pushes to the line's near end, then its far end
             (:func:`~voxposer.lmp.plan_along.push_along_ends`).
@@ -147,6 +153,8 @@ class LMPConfig:
     grasp_before_drop: bool = True
     carry_stay_on: bool = True
     carry_stated_constraints: bool = True
+    fold_avoided: bool = True
+    named_places_only: bool = True
     push_along_ends: bool = True
     drop_final_reset: bool = True
     hover_over: bool = True

@@ -11,8 +11,10 @@ instructions, the planner
 - pushed the block on to a place the instruction never names ("… to the back side of the
   table" after "… to the right side of the table").
 
-:func:`unasked_gaps` names each such sub-task; like the checklist's gaps they can only ask the
-model once more (:class:`voxposer.lmp.plan_review.PlanReview`). The checks are lexical and
+:func:`unasked_gaps` names a grasp or a place; like the checklist's gaps they can only ask the
+model once more (:class:`voxposer.lmp.plan_review.PlanReview`). A motion to what is to be
+avoided (:func:`to_avoided`) is mended without asking (:mod:`voxposer.lmp.plan_avoid`): asked,
+the model answered with that sub-task alone, a post-condition added. The checks are lexical and
 conservative: an instruction with any grasping word, or one that names no table place in the
 places' own words, is never sent back for these.
 """
@@ -28,10 +30,9 @@ from voxposer.perception.names import normalize_name
 from voxposer.places import PLACES
 
 UNASKED_GRASP: Final = "grasp the instruction does not ask"
-AVOIDED_DESTINATION: Final = "motion to what is to be avoided"
 UNNAMED_PLACE: Final = "place the instruction does not name"
 #: the gap kinds of this module.
-KINDS: Final = (UNASKED_GRASP, AVOIDED_DESTINATION, UNNAMED_PLACE)
+KINDS: Final = (UNASKED_GRASP, UNNAMED_PLACE)
 
 #: a sub-task that takes hold of an object or lets go of it.
 _GRASPING: Final = re.compile(r"\b(?:grasp|grab|pick|carry|release|let go)\b")
@@ -59,6 +60,12 @@ def _places(text: str) -> set[str]:
     return found
 
 
+def named_places(text: str) -> set[str]:
+    """The table places ``text`` names in the places' own words ("back left corner of the
+    table")."""
+    return _places(_text(text))
+
+
 def avoided_objects(instruction: str) -> set[str]:
     """The objects ``instruction`` names only to keep away from ("keep it away from the pink
     block", "avoiding the blue block"): named once, right after an avoidance word, and not
@@ -77,19 +84,22 @@ def avoided_objects(instruction: str) -> set[str]:
     return out
 
 
+def to_avoided(subtask: str, avoided: str) -> bool:
+    """Whether ``subtask`` moves to or around ``avoided`` ("move around the pink block"): it
+    names that object and no other object or table place, and does not leave it."""
+    text = _text(subtask)
+    others = {f"{c} {n}" for c, n in _OBJECT.findall(text)} - {avoided}
+    return avoided in text and not others and not _places(text) and not MOVE_AWAY.match(text)
+
+
 def unasked_gaps(instruction: str, subtasks: list[str]) -> list[ClauseGap]:
-    """The sub-tasks of a plan that do what ``instruction`` does not ask (empty: none)."""
+    """The sub-tasks of a plan that grasp or go to a table place ``instruction`` does not ask
+    (empty: none). A motion to what is to be avoided is not sent back but mended
+    (:mod:`voxposer.lmp.plan_avoid`)."""
     said = _text(instruction)
     gaps: list[ClauseGap] = []
     if not _MAY_GRASP.search(said):
         gaps += [ClauseGap(UNASKED_GRASP, s) for s in subtasks if _GRASPING.search(_text(s))]
-    for avoided in sorted(avoided_objects(instruction)):
-        for s in subtasks:
-            text = _text(s)
-            others = {f"{c} {n}" for c, n in _OBJECT.findall(text)} - {avoided}
-            if avoided in text and not others and not _places(text) \
-                    and not MOVE_AWAY.match(text):
-                gaps.append(ClauseGap(AVOIDED_DESTINATION, s))
     named = _places(said)
     if named:
         gaps += [ClauseGap(UNNAMED_PLACE, s) for s in subtasks if _places(_text(s)) - named]
@@ -105,15 +115,11 @@ def unasked_message(gaps: list[ClauseGap]) -> str:
         parts.append(f"The instruction asks no grasp, but {listed(UNASKED_GRASP)} grasp(s) or "
                      "release(s) an object: leave such sub-tasks out (a push moves an object "
                      "with the open gripper).")
-    if listed(AVOIDED_DESTINATION):
-        parts.append(f"{listed(AVOIDED_DESTINATION)} move(s) to or around an object the "
-                     "instruction only asks to keep away from: leave it out and say 'while "
-                     "staying away from ...' in the sub-task of the motion it constrains.")
     if listed(UNNAMED_PLACE):
         parts.append(f"{listed(UNNAMED_PLACE)} go(es) to a place of the table the instruction "
                      "does not name: use only the places the instruction names.")
     return " ".join(parts)
 
 
-__all__ = ["AVOIDED_DESTINATION", "KINDS", "UNASKED_GRASP", "UNNAMED_PLACE",
-           "avoided_objects", "unasked_gaps", "unasked_message"]
+__all__ = ["KINDS", "UNASKED_GRASP", "UNNAMED_PLACE", "avoided_objects", "named_places",
+           "to_avoided", "unasked_gaps", "unasked_message"]
