@@ -131,6 +131,18 @@ STAY_OBJECTS = ("table", "gripper", "yellow block", "brown block", "blue block")
      "expect(above('gripper', 'blue block', cm=11))\ncomposer('back to default pose')",
      "composer('move to the right side of the table while staying at least 11cm from the blue "
      "block')\ncomposer('back to default pose')"),
+    # the motion said as reaching a place, the clause planned as a destination after it
+    ("reach the right side of the table; your path should stay on the top of the blue block",
+     "composer('reach the right side of the table')\n"
+     "composer('move to the top of the blue block')",
+     "composer('reach the right side of the table while staying on the top of the blue "
+     "block')"),
+    # the clause said as what the hand never leaves
+    ("the gripper should end at the back left corner of the table, never leaving the front side "
+     "of the brown block",
+     "composer('move to the back left corner of the table')",
+     "composer('move to the back left corner of the table while staying on the front side of "
+     "the brown block')"),
     ("get to the back side of the table while staying 7 cm or more away from the blue block",
      "composer('move to the back side of the table')",
      "composer('move to the back side of the table while staying at least 7cm from the blue "

@@ -23,7 +23,9 @@ def entries(*planner: str) -> list[dict]:
         "movable = parse_query_obj('gripper')\n"
         "affordance_map = get_affordance_map('left of the blue block')\n"
         "execute(movable, affordance_map=affordance_map)"]}
-    return [*rows, dropped, {"lmp": "planner", "query": INSTRUCTION, "responses": list(planner)}]
+    said = {**dropped, "query": f"{DROPPED[10:-2]} while staying away from the green block"}
+    return [*rows, dropped, said,
+            {"lmp": "planner", "query": INSTRUCTION, "responses": list(planner)}]
 
 
 class Backend(ReplayBackend):
@@ -59,14 +61,21 @@ def test_a_plan_that_drops_a_clause_is_sent_back_once_and_the_correction_runs() 
 
 
 def test_without_the_checklist_the_dropped_clause_runs() -> None:
-    rt = runtime(Backend(entries(DROPPED, FULL)), clause_checklist=False)
+    rt = runtime(Backend(entries(DROPPED, FULL)), clause_checklist=False, fold_avoided=False)
     rt.run(INSTRUCTION)
     assert [r.subtask for r in rt.handler.requests] == ["move to the left of the blue block"]
 
 
+def test_a_dropped_avoidance_is_said_in_the_motion_without_asking() -> None:
+    rt = runtime(Backend(entries(DROPPED, FULL)), clause_checklist=False)
+    rt.run(INSTRUCTION)
+    assert [r.subtask for r in rt.handler.requests] == [
+        "move to the left of the blue block while staying away from the green block"]
+
+
 def test_a_correction_that_is_worse_loses_to_the_first_plan() -> None:
     worse = "composer('move left')"
-    rt = runtime(Backend(entries(DROPPED, worse)))
+    rt = runtime(Backend(entries(DROPPED, worse)), fold_avoided=False)
     rt.run(INSTRUCTION)  # the first plan missed 'green' + avoidance; the second also 'blue'
     assert [r.subtask for r in rt.handler.requests] == ["move to the left of the blue block"]
 

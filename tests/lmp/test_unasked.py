@@ -12,9 +12,9 @@ from voxposer.bench.paraphrases import paraphrase
 from voxposer.bench.task import episode_rng
 from voxposer.bench.tasks import TASKS
 from voxposer.lmp.checklist import planned_subtasks
-from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.plan_avoid import fold_avoided
 from voxposer.lmp.plan_places import named_places_only
+from voxposer.lmp.plan_review import PlanReview
 from voxposer.lmp.unasked import (
     UNASKED_GRASP,
     UNNAMED_PLACE,
@@ -83,7 +83,7 @@ def test_the_review_sends_an_unasked_grasp_back_with_it_named() -> None:
     review = PlanReview(PUSH_AWAY, max_attempts=3, post_conditions=False)
     plan = ("composer('grasp the green block')\ncomposer('push the green block to the front "
             "right corner of the table while staying away from the yellow block')")
-    code, correction, gaps = review.review(plan, attempt=1)
+    code, correction, _ = review.review(plan, attempt=1)
     assert code == plan and correction is not None
     assert "'grasp the green block'" in correction and "asks no grasp" in correction
     fixed = ("composer('push the green block to the front right corner of the table while "
@@ -118,3 +118,26 @@ def test_multistep_reference_plans_do_nothing_unasked(name: str) -> None:
         assert _gaps(instruction, code) == set(), instruction
         assert fold_avoided(instruction, code) is None, instruction
         assert named_places_only(instruction, code) is None, instruction
+
+
+def test_an_avoidance_no_sub_task_names_is_said_in_the_motion() -> None:
+    """The clause checklist asked once; the plan still never names the block to avoid."""
+    instruction = ("move the yellow block to the front right corner of the table with pushes, "
+                   "steering it around the pink block")
+    code = ("composer('move the yellow block to the front right corner of the table with "
+            "pushes')\ncomposer('back to default pose')")
+    assert fold_avoided(instruction, code) == (
+        "composer('move the yellow block to the front right corner of the table with pushes "
+        "while staying away from the pink block')\ncomposer('back to default pose')")
+
+
+def test_a_wide_berth_is_an_avoidance_and_a_visit_to_the_block_is_mended() -> None:
+    instruction = ("get the brown block to the front right corner of the table by pushing, and "
+                   "give the blue block a wide berth")
+    assert avoided_objects(instruction) == {"blue block"}
+    code = ("composer('push the brown block to the front right corner of the table')\n"
+            "composer('move to a point 10cm above the blue block')\n"
+            "expect(above('gripper', 'blue block', cm=10))")
+    assert fold_avoided(instruction, code) == (
+        "composer('push the brown block to the front right corner of the table while staying "
+        "away from the blue block')")

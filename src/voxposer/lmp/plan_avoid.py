@@ -6,9 +6,12 @@ side of the table')`` then ``composer('move around the pink block')``: the push,
 avoidance map, went where it liked, and the hand then visited the block to be avoided. Asked to
 fix it, the model answered with that sub-task alone. :func:`fold_avoided` drops such sub-tasks
 (:func:`voxposer.lmp.unasked.to_avoided`, with their post-conditions) and, when no sub-task left
-names the object, says "while staying away from the <object>" in the plan's pushes — or, in a
-plan without pushes, its motions of the hand to a place — the words the composer's examples
-read for a motion that avoids. Only plain plans (``composer`` and ``expect`` statements).
+names the object — dropped so, or never named ("move the yellow block to the front right
+corner of the table with pushes" for "…, steering it around the pink block", kept when the
+clause checklist asked) — says "while staying away from the <object>" in the plan's pushes —
+or, in a plan without pushes, its motions of the hand to a place — the words the composer's
+examples read for a motion that avoids. Only plain plans (``composer`` and ``expect``
+statements).
 """
 
 from __future__ import annotations
@@ -22,7 +25,8 @@ from voxposer.lmp.unasked import avoided_objects, to_avoided
 #: a sub-task that pushes an object.
 _PUSH: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:push|slide|nudge|shove)\b", re.I)
 #: a sub-task that moves the hand to somewhere (not the default pose, a grasp or a release).
-_TO_PLACE: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:move|go|get|head|travel)\b"
+_TO_PLACE: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?"
+                              r"(?:move|go|get|head|travel|reach|navigate)\b"
                               r"(?!.*\b(?:default|grasp|release|drop)\b).*\b(?:to|above|over)\b",
                               re.I)
 
@@ -40,14 +44,15 @@ def fold_avoided(instruction: str, code: str, names: tuple[str, ...] = ()) -> st
     if steps is None or not avoided:
         return None
     kept = [s for s in steps if not any(to_avoided(s[0], a) for a in avoided)]
-    if len(kept) == len(steps) or not kept:
+    unnamed = [a for a in avoided if not any(a in s.lower() for s, _, _ in kept)]
+    if not kept or (len(kept) == len(steps) and not unnamed):
         return None
     lines: list[str] = []
     pushes = [s for s in kept if _PUSH.match(s[0])]
     movers = pushes or [s for s in kept if _TO_PLACE.match(s[0])]
     for subtask, line, expects in kept:
-        for name in avoided:
-            if (subtask, line, expects) in movers and not any(name in s for s, _, _ in kept):
+        for name in unnamed:
+            if (subtask, line, expects) in movers:
                 subtask = _with_avoidance(subtask, name)
         lines += [f"composer({subtask!r})", *expects]
     return "\n".join(lines)

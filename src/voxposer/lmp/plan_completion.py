@@ -54,8 +54,10 @@ CARRY_CM: Final = 9
 #: "staying on the <side> of the <object>" in an instruction or a sub-task: (side, the words
 #: after "of the", which begin with the object's name).
 STAY_ON: Final = re.compile(
-    r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|passing|going|go)\s+"
-    r"(?:on|over|at|along|to|by)\s+the\s+(top|bottom|(?:front|back|left|right|near|far)"
+    r"\b(?:(?:stay|staying|stays|keep|keeping|remain|remaining|pass|passing|going|go)"
+    r"(?:\s+(?:yourself|itself|the\s+(?:gripper|hand)))?\s+(?:on|over|at|along|to|by)"
+    r"|(?:never|not|without)\s+leav(?:e|es|ing))\s+"
+    r"the\s+(top|bottom|(?:front|back|left|right|near|far)"
     r"(?:\s+side)?)\s+of\s+the\s+([a-z ]+)")
 #: "keep 11cm clear of the blue block", "staying at least 5 cm away from the …" in an
 #: instruction: (cm, object words).
@@ -68,7 +70,7 @@ _KEEPS_AWAY: Final = re.compile(r"\b(?:at\s+least|clear\s+of|away\s+from|avoid|a
 #: a sub-task that takes the hand to a place.
 _HAND_TO: Final = re.compile(r"^\s*(?:then\s+)?(?:move|go|head|travel)\s+(?:over\s+)?(?:to|towards?)\b")
 #: a sub-task that moves the hand somewhere.
-_MOTION: Final = re.compile(r"^\s*(?:move|go|head|travel|bring|take)\b", re.I)
+_MOTION: Final = re.compile(r"^\s*(?:move|go|head|travel|bring|take|reach|get|navigate)\b", re.I)
 #: words of things fixed to the scene: grasped to pull or turn them, never to lift.
 _FIXED_PARTS: Final = re.compile(
     r"\b(?:handle|drawer|door|window|fridge|cabinet|knob|lever|lid|latch)s?\b", re.I)

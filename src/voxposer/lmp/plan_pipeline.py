@@ -14,7 +14,6 @@ from typing import Final, NamedTuple
 
 from voxposer.lmp.plan_along import push_along_ends
 from voxposer.lmp.plan_avoid import fold_avoided
-from voxposer.lmp.plan_places import named_places_only
 from voxposer.lmp.plan_carry import carry_stated_constraints
 from voxposer.lmp.plan_completion import (
     LIFT_SUBTASK,
@@ -25,6 +24,7 @@ from voxposer.lmp.plan_completion import (
     lift_after_grasp,
 )
 from voxposer.lmp.plan_conditions import derive_conditions, keep_instruction_speed
+from voxposer.lmp.plan_places import named_places_only
 from voxposer.lmp.registry import LMPConfig
 
 #: (instruction, code, object names) → (new code, what changed in words) or None.

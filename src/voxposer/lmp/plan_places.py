@@ -38,7 +38,7 @@ def named_places_only(instruction: str, code: str, names: tuple[str, ...] = ()) 
         texts.append(subtask)
     lines: list[str] = []
     carried: list[str] = []
-    for i, (text, (_, _, expects)) in enumerate(zip(texts, steps)):
+    for i, (text, (_, _, expects)) in enumerate(zip(texts, steps, strict=True)):
         following = texts[i + 1] if i + 1 < len(texts) else ""
         if following.startswith(text.rstrip(" .") + " "):
             carried += expects

@@ -18,7 +18,8 @@ import ast
 
 from voxposer.lmp.checklist import ClauseGap, checklist_message, clause_gaps, planned_subtasks
 from voxposer.lmp.intent_checklist import intent_gaps, intent_message
-from voxposer.lmp.unasked import KINDS as UNASKED, unasked_gaps, unasked_message
+from voxposer.lmp.unasked import KINDS as UNASKED
+from voxposer.lmp.unasked import unasked_gaps, unasked_message
 
 POST_CONDITION: str = "post-condition"
 

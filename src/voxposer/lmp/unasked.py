@@ -78,8 +78,9 @@ def avoided_objects(instruction: str) -> set[str]:
             continue
         before = re.findall(r"[a-z]+", text[:start])[-4:]
         later = re.findall(r"[a-z]+", text[start + len(name):])
-        if (AVOID_WORDS.intersection(before) or {"near", "berth"}.intersection(before)) \
-                and not {"it", "them", "there"}.intersection(later):
+        said = AVOID_WORDS.intersection(before) or {"near", "berth"}.intersection(before) \
+            or "berth" in later[:3]  # "give the blue block a wide berth"
+        if said and not {"it", "them", "there"}.intersection(later):
             out.add(name)
     return out
 
