@@ -2,7 +2,7 @@
 # Benchmark v4.1 (issue "open-set instructions": objects named by relation and distances said in
 # centimetres grounded before the planner, a line's ends on its axis, plans reviewed and mended
 # for what the instruction never asks): the frozen commit checked out at /work/frozen41
-# (git worktree add --detach /work/frozen41 <commit>), the default model, test seeds
+# (git worktree add --detach /work/frozen41 eb9582a), the default model, test seeds
 # 100000-100009, seen attributes, an empty response cache per step (as v4.0); each step
 # resumable (--resume, same commit).
 #   paraphrased/  the test phrasings
