@@ -44,6 +44,10 @@ MOVE_AWAY: Final = re.compile(
     r"^(?:then\s+|and\s+|finally\s+)?(?:move|go|get|back|step|pull|retreat)\s+(?:the\s+"
     r"(?:gripper|hand|end\s+effector)\s+)?(?:back\s+)?away\s+from\s+(?:the\s+)?"
     r"(?P<obj>[a-z ]+?)\.?$")
+#: a sub-task that pushes an object: ``words``, the words after the verb (and "the"), which
+#: begin with the pushed object's name.
+PUSH_SUBTASK: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:push|slide|nudge|shove|"
+                                 r"pushing|sliding)\s+(?:the\s+)?(?P<words>[a-z ]+)", re.I)
 #: a table part a speed applies in, said in words: (part).
 REGION_SAID: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s+"
                             r"((?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge))\s+of\s+the\s+table")

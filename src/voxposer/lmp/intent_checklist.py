@@ -27,14 +27,19 @@ import ast
 import re
 from typing import Final, NamedTuple
 
-from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, REGION_SAID, SPEED_WORDS, ClauseGap
+from voxposer.lmp.checklist import (
+    AVOID_WORDS,
+    MOVE_AWAY,
+    PUSH_SUBTASK,
+    REGION_SAID,
+    SPEED_WORDS,
+    ClauseGap,
+)
 from voxposer.perception.names import is_end_effector, normalize_name
 
 #: the post-condition helpers the checklist reads (:data:`voxposer.lmp.intent.HELPERS`).
 _CONDITIONS: Final = frozenset({"moved", "near", "on", "above", "away", "far", "passed_on",
                                 "speed", "holding", "released", "along"})
-_PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
-                          r"(?:the\s+)?([a-z]+)")
 _NEAR: Final = re.compile(r"\b(?:within|near|close to|closer than|next to|around)\b[^,;]*?"
                           r"\bthe\s+(?:[a-z]+\s+)?(?:block|cube|object|line|drawer|handle|box)\b")
 _STAY_ON: Final = re.compile(r"\b(?:stay|staying|stays|keep|keeping|remain|remaining|pass|"
@@ -108,7 +113,8 @@ def subtask_gaps(subtask: str, conditions: list[Condition],
     for cond in conditions:
         by.setdefault(cond.helper, []).append(cond)
     gaps: list[str] = []
-    pushed = _PUSH.match(text)
+    push = PUSH_SUBTASK.match(text)
+    pushed = next(iter(push.group("words").lower().split()), None) if push else None
     if words & SPEED_WORDS:
         speeds = by.get("speed", [])
         if not speeds:
@@ -125,7 +131,7 @@ def subtask_gaps(subtask: str, conditions: list[Condition],
             gaps.append("the distance it keeps: away('<what moves>', '<object>', cm=<distance>) "
                         "measures it")
         elif pushed and all(is_end_effector(a.subject) for a in aways):
-            gaps.append(f"the pushed object's distance: away('{pushed.group(1)} ...', "
+            gaps.append(f"the pushed object's distance: away('{pushed} ...', "
                         "'<object>') — the pushed object, not the gripper")
     if _STAY_ON.search(text):
         if not by.get("passed_on"):
@@ -136,10 +142,10 @@ def subtask_gaps(subtask: str, conditions: list[Condition],
                 gaps.append(f"on({cond.subject!r}, {cond.other!r}, ...) says it ends beside "
                             f"the {cond.other}, but it only passes it: replace it by "
                             f"passed_on({cond.subject!r}, {cond.other!r}, '<side>')")
-    if pushed and not any(c.helper != "away" and pushed.group(1) in _words(c.subject)
+    if pushed and not any(c.helper != "away" and pushed in _words(c.subject)
                           for c in (*conditions, *later)):
-        gaps.append(f"where the pushed object ends: moved('{pushed.group(1)} ...') or "
-                    f"on('{pushed.group(1)} ...', 'table', '<place>') — the pushed object, "
+        gaps.append(f"where the pushed object ends: moved('{pushed} ...') or "
+                    f"on('{pushed} ...', 'table', '<place>') — the pushed object, "
                     "not the gripper")
     return gaps
 

@@ -19,11 +19,10 @@ from __future__ import annotations
 import re
 from typing import Final
 
+from voxposer.lmp.checklist import PUSH_SUBTASK
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.unasked import avoided_objects, to_avoided
 
-#: a sub-task that pushes an object.
-_PUSH: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:push|slide|nudge|shove)\b", re.I)
 #: a sub-task that moves the hand to somewhere (not the default pose, a grasp or a release).
 _TO_PLACE: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?"
                               r"(?:move|go|get|head|travel|reach|navigate)\b"
@@ -48,7 +47,7 @@ def fold_avoided(instruction: str, code: str, names: tuple[str, ...] = ()) -> st
     if not kept or (len(kept) == len(steps) and not unnamed):
         return None
     lines: list[str] = []
-    pushes = [s for s in kept if _PUSH.match(s[0])]
+    pushes = [s for s in kept if PUSH_SUBTASK.match(s[0])]
     movers = pushes or [s for s in kept if _TO_PLACE.match(s[0])]
     for subtask, line, expects in kept:
         for name in unnamed:

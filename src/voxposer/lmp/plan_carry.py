@@ -35,7 +35,7 @@ import ast
 import re
 from typing import Final
 
-from voxposer.lmp.checklist import NEAR_SAID, REGION_SAID, SPEED_WORDS
+from voxposer.lmp.checklist import NEAR_SAID, PUSH_SUBTASK, REGION_SAID, SPEED_WORDS
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import speed_factor, speed_span
 from voxposer.perception.names import is_end_effector, leading_name
@@ -43,9 +43,6 @@ from voxposer.perception.names import is_end_effector, leading_name
 #: a sub-task that moves the hand to a place (not a grasp, push or release).
 _HAND_MOTION: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:move|go|get|head|travel"
                                  r"|return)\b(?!.*\b(?:push|grasp|pick|drop|release)\b)", re.I)
-#: a sub-task that pushes an object: (the words after the verb, which begin with its name).
-_PUSH: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:push|slide|nudge|shove)\s+"
-                          r"(?:the\s+)?([a-z ]+)", re.I)
 
 #: the speed words of the planner's examples for the factors they use.
 _NAMED_SCALES: Final = {2.0: "faster speed", 0.5: "half of the speed",
@@ -155,8 +152,8 @@ def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ..
     lines: list[str] = []
     changed: list[str] = []
     for subtask, line, expects in steps:
-        push = _PUSH.match(subtask)
-        pushed = leading_name(push.group(1).lower(), names) if push else None
+        push = PUSH_SUBTASK.match(subtask)
+        pushed = leading_name(push.group("words").lower(), names) if push else None
         if _HAND_MOTION.match(subtask) or pushed is not None:
             added: list[str] = []
             for cond in (c for e in expects for c in _conditions(e)):

@@ -46,7 +46,7 @@ import re
 from collections.abc import Callable
 from typing import Final, NamedTuple
 
-from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, NEAR_SAID, REGION_SAID
+from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, NEAR_SAID, PUSH_SUBTASK, REGION_SAID
 from voxposer.lmp.plan_completion import STAY_ON
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import same_direction, speed_factor, speed_span
@@ -60,8 +60,6 @@ _HOVER_OBJ: Final = re.compile(r"^(?:then\s+|first\s+)?hover\s+(?:over\s+|above\
                                r"([a-z ]+)")
 _TO_PLACE: Final = re.compile(r"^(?:then\s+|and\s+)?(?:move|go|head)\s+to\s+the\s+((?:[a-z]+\s+){0,2}"
                               r"(?:side|corner))\s+of\s+the\s+table\.?$")
-_PUSH: Final = re.compile(r"^(?:then\s+|and\s+)?(?:push|slide|nudge|shove|pushing|sliding)\s+"
-                          r"(?:the\s+)?([a-z ]+)")
 _ALONG: Final = re.compile(r"\b(?:along|following|down|up)\s+the\s+([a-z]+\s+line)\b")
 _RELEASE: Final = re.compile(r"^(?:then\s+|and\s+)?(?:release|drop|let\s+go\s+of|put\s+down)\s+"
                              r"(?:the\s+)?([a-z ]+)")
@@ -103,8 +101,8 @@ def _object(words: str, objects: tuple[str, ...]) -> str | None:
 
 def _mover(text: str, objects: tuple[str, ...]) -> str:
     """What a sub-task moves: the pushed object, else the gripper."""
-    push = _PUSH.match(text)
-    return (_object(push.group(1), objects) or "gripper") if push else "gripper"
+    push = PUSH_SUBTASK.match(text)
+    return (_object(push.group("words").lower(), objects) or "gripper") if push else "gripper"
 
 
 def _stated_scale(cond: Stated) -> float | None:
