@@ -47,11 +47,11 @@ def fold_avoided(instruction: str, code: str, names: tuple[str, ...] = ()) -> st
     if not kept or (len(kept) == len(steps) and not unnamed):
         return None
     lines: list[str] = []
-    pushes = [s for s in kept if PUSH_SUBTASK.match(s[0])]
-    movers = pushes or [s for s in kept if _TO_PLACE.match(s[0])]
-    for subtask, line, expects in kept:
-        for name in unnamed:
-            if (subtask, line, expects) in movers:
+    pushes = {i for i, s in enumerate(kept) if PUSH_SUBTASK.match(s[0])}
+    movers = pushes or {i for i, s in enumerate(kept) if _TO_PLACE.match(s[0])}
+    for i, (subtask, _, expects) in enumerate(kept):
+        if i in movers:
+            for name in unnamed:
                 subtask = _with_avoidance(subtask, name)
         lines += [f"composer({subtask!r})", *expects]
     return "\n".join(lines)
