@@ -124,8 +124,10 @@ def test_the_runtime_sends_the_nearest_bank_examples_after_the_reusable_prefix()
     added = request.messages[prompt.n_prefix_messages:-1]
     banked = {e.user for e in prompt.bank.examples}
     assert len(added) == 4 and {m.content for m in added[::2]} <= banked
+    assert request.context_messages == len(request.messages) - 1  # prefix + the chosen examples
     none = planner_request(LMPConfig(retrieved_examples=0))
     assert none.prefix_messages is None and len(none.messages) == prompt.n_prefix_messages + 1
+    assert none.context_messages is None  # nothing beyond the prefix to keep
 
 
 def test_retrieved_examples_is_validated() -> None:

@@ -164,7 +164,7 @@ class LMPRuntime:
         try:
             for attempt in range(1, self.config.max_attempts + 1):
                 text = self._complete(spec, query, messages, n_prefix=n_prefix,
-                                      attempt=attempt)
+                                      attempt=attempt, n_context=len(base) - 1)
                 code = extract_code(text)
                 if review is not None:
                     code, gap_message, gaps = review.review(code, attempt)
@@ -212,11 +212,12 @@ class LMPRuntime:
                                      attempt=attempt))
 
     def _complete(self, spec: LMPSpec, query: str, messages: list[ChatMessage], n_prefix: int,
-                  attempt: int) -> str:
+                  attempt: int, n_context: int) -> str:
         request = LLMRequest(messages=tuple(messages), temperature=self.config.temperature,
                              max_tokens=self.config.max_tokens, stop=self.config.stop,
                              prefix_id=self.prompt(spec.name).prefix_id,
-                             prefix_messages=n_prefix if n_prefix < len(messages) - 1 else None)
+                             prefix_messages=n_prefix if n_prefix < len(messages) - 1 else None,
+                             context_messages=n_context if n_context > n_prefix else None)
         self.llm_calls += 1
         start = time.monotonic()
         response = self.backend.complete(request)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -68,6 +69,15 @@ def test_any_request_difference_is_a_miss(tmp_path: Path, other: LLMRequest) -> 
     llm = CachedBackend(inner, ResponseCache(tmp_path / "c.sqlite"))
     llm.complete(req())
     assert llm.complete(other).text == "answer 2"
+
+
+def test_the_context_hint_is_not_part_of_the_key(tmp_path: Path) -> None:
+    inner = CountingBackend()
+    llm = CachedBackend(inner, ResponseCache(tmp_path / "c.sqlite"))
+    llm.complete(req())
+    hinted = replace(req(), context_messages=1)
+    assert hinted.key("b", "m") == req().key("b", "m")
+    assert llm.complete(hinted).cached and inner.calls == 1
 
 
 def test_model_is_part_of_the_key(tmp_path: Path) -> None:

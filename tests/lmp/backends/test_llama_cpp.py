@@ -127,3 +127,36 @@ def test_requests_without_prefix_id_are_not_persisted(
     assert response.extra["prefix"] == "none" and "move('cup'" in response.text
     assert not (tmp_path / "states").exists()
     llm.close()
+
+
+def with_examples(query: str) -> LLMRequest:
+    """A request whose prefix is followed by an example chosen for its query (as retrieval
+    adds), marked as the query's context."""
+    base = messages(query)
+    chosen = (ChatMessage("user", "# Query: raise the jar by 7 cm."),
+              ChatMessage("assistant", "move('jar', 0, 0, 0.07)"))
+    full = (*base[:-1], *chosen, base[-1])
+    return LLMRequest(messages=full, max_tokens=32, prefix_id="mover",
+                      prefix_messages=len(base) - 1, context_messages=len(full) - 1)
+
+
+@pytest.mark.slow
+def test_query_context_is_evaluated_once_then_restored(
+    default_model_path: Path, tmp_path: Path
+) -> None:
+    llm = backend(default_model_path, tmp_path / "states")
+    first = llm.complete(with_examples("# Query: lift the bowl by 4 cm."))
+    assert first.extra["context"] == "evaluated"
+    assert first.extra["context_tokens"] > first.extra["prefix_tokens"]
+    second = llm.complete(with_examples("# Query: push the can 6 cm in the +x direction."))
+    assert second.extra["context"] == "live" and "move('can', 0.06" in second.text
+    llm.complete(request("# Query: lift the cup by 1 cm.", "other", SYSTEM + " Be exact."))
+    back = llm.complete(with_examples("# Query: lift the bowl by 4 cm."))
+    assert back.extra["context"] == "memory" and back.text == first.text
+    llm.close()
+
+    # the same answers as a backend that keeps no context (every example evaluated each time)
+    plain = LlamaCppBackend(default_model_path, n_ctx=2048, max_context_bytes=0)
+    again = plain.complete(with_examples("# Query: push the can 6 cm in the +x direction."))
+    assert "context" not in again.extra and again.text == second.text
+    plain.close()

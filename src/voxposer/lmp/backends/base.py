@@ -36,6 +36,9 @@ class LLMRequest:
             that can keep the prefix's state (KV cache) use it, others ignore it.
         prefix_messages: how many leading messages form that prefix (None: all but the last);
             examples chosen per query come after it.
+        context_messages: how many leading messages form the query's context (the prefix and
+            the examples chosen for it, not the query or a retry's turns); backends that keep
+            model states may keep this one too. A hint only: it is not part of :meth:`key`.
     """
 
     messages: tuple[ChatMessage, ...]
@@ -44,11 +47,14 @@ class LLMRequest:
     stop: tuple[str, ...] = ()
     prefix_id: str | None = None
     prefix_messages: int | None = None
+    context_messages: int | None = None
 
     def key(self, backend: str, model: str) -> str:
         """Stable sha256 of backend + model + the full request (a ``prefix_messages`` of None
-        is left out, so keys recorded before the field existed still match)."""
+        is left out, so keys recorded before the field existed still match; the
+        ``context_messages`` hint never enters it)."""
         request = asdict(self)
+        del request["context_messages"]
         if self.prefix_messages is None:
             del request["prefix_messages"]
         payload = {"backend": backend, "model": model, "request": request}

@@ -2,22 +2,45 @@
 
 Kept apart from the backend (:mod:`voxposer.lmp.backends.llama_cpp`) so the policy there (which
 prefix to evaluate, restore or keep) reads without the mechanics. ``llm`` is a
-``llama_cpp.Llama``; ``lib`` the ``llama_cpp`` module (imported lazily by the backend).
+``llama_cpp.Llama``; ``lib`` the ``llama_cpp`` module (imported lazily: :func:`import_llama_cpp`).
 """
 
 from __future__ import annotations
 
 import ctypes
 import logging
+import sys
 from typing import Any
 
 import numpy as np
 
 from voxposer.errors import LLMError
 from voxposer.lmp.backends.base import ChatMessage
+from voxposer.lmp.backends.config import configure_openmp, openmp_configured
 from voxposer.lmp.backends.prefix_state import PrefixState
 
 log = logging.getLogger(__name__)
+
+
+def import_llama_cpp() -> Any:
+    """The ``llama_cpp`` module, imported after OpenMP is configured for a shared CPU."""
+    if "llama_cpp" not in sys.modules:
+        configure_openmp()  # before libgomp loads with llama_cpp
+    elif not openmp_configured():
+        log.warning(
+            "llama_cpp was imported before voxposer set OMP_WAIT_POLICY=PASSIVE; decoding may "
+            "slow down by 10-30x when other processes compete for the CPU"
+        )
+    try:
+        import llama_cpp
+        import llama_cpp.llama_chat_format
+    except ImportError as exc:  # pragma: no cover - depends on the install
+        raise LLMError(
+            "llama-cpp-python is not installed; run `bash scripts/setup.sh` "
+            "(it installs the '[model]' extra) or pip install -e '.[model]'"
+        ) from exc
+    return llama_cpp
+
 
 #: used only when a GGUF file carries no chat template
 CHATML = (

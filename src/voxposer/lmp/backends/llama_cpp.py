@@ -10,6 +10,10 @@ It is evaluated once; its KV state is then
 * (for requests with a ``prefix_id``) saved to disk by a :class:`PrefixStateStore`, so a new
   process skips the evaluation too.
 
+The examples chosen per query (a request's ``context_messages``) extend that prefix; the state at
+their end is kept in memory too (:class:`ContextStates`), so a later query given the same
+examples evaluates only itself.
+
 By default one context serves all programs and swaps prefix states (``max_contexts=1``, ~1 s per
 switch including the query): each extra context costs ~0.8 GB of private memory (measured:
 repacked weights, KV cache, compute buffers) for no speed-up on a small CPU machine.
@@ -18,7 +22,6 @@ repacked weights, KV cache, compute buffers) for no speed-up on a small CPU mach
 from __future__ import annotations
 
 import logging
-import sys
 import threading
 import time
 from collections import OrderedDict
@@ -30,12 +33,14 @@ import numpy as np
 
 from voxposer.errors import ConfigError, LLMError
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
-from voxposer.lmp.backends.config import available_cores, configure_openmp, openmp_configured
+from voxposer.lmp.backends.config import available_cores
+from voxposer.lmp.backends.context_states import ContextStates
 from voxposer.lmp.backends.llama_context import (
     ChatTemplate,
     capture_state,
     common_prefix,
     evaluate_exactly,
+    import_llama_cpp,
     restore_state,
 )
 from voxposer.lmp.backends.prefix_state import (
@@ -48,25 +53,6 @@ from voxposer.lmp.backends.prefix_state import (
 log = logging.getLogger(__name__)
 
 MIN_PREFIX_TOKENS = 32  # shorter prefixes are not worth saving
-
-
-def _import_llama_cpp() -> Any:
-    if "llama_cpp" not in sys.modules:
-        configure_openmp()  # before libgomp loads with llama_cpp
-    elif not openmp_configured():
-        log.warning(
-            "llama_cpp was imported before voxposer set OMP_WAIT_POLICY=PASSIVE; decoding may "
-            "slow down by 10-30x when other processes compete for the CPU"
-        )
-    try:
-        import llama_cpp
-        import llama_cpp.llama_chat_format
-    except ImportError as exc:  # pragma: no cover - depends on the install
-        raise LLMError(
-            "llama-cpp-python is not installed; run `bash scripts/setup.sh` "
-            "(it installs the '[model]' extra) or pip install -e '.[model]'"
-        ) from exc
-    return llama_cpp
 
 
 @dataclass
@@ -90,6 +76,8 @@ class LlamaCppBackend(LLMBackend):
         model_sha256: the file's known sha256 (keys saved states; else a cheap fingerprint).
         max_contexts: live contexts kept (each ~0.8 GB); prefixes beyond swap state.
         max_memory_states: evaluated prefix states kept in memory for swapping.
+        max_context_bytes: memory for states at the end of queries' contexts (few-shot prefix
+            plus the examples chosen per query) [bytes]; 0 keeps none.
     """
 
     name = "llama_cpp"
@@ -106,6 +94,7 @@ class LlamaCppBackend(LLMBackend):
         model_sha256: str | None = None,
         max_contexts: int = 1,
         max_memory_states: int = 16,
+        max_context_bytes: int = 768 << 20,
     ) -> None:
         self.model_path = Path(model_path)
         if not self.model_path.is_file():
@@ -114,7 +103,7 @@ class LlamaCppBackend(LLMBackend):
             raise ConfigError(f"n_ctx={n_ctx} tokens must be >= 512")
         if max_contexts < 1:
             raise ConfigError(f"max_contexts={max_contexts} must be >= 1")
-        self._lib = _import_llama_cpp()
+        self._lib = import_llama_cpp()
         self._model_name = model_name or self.model_path.stem
         self.n_ctx = n_ctx
         self.n_threads = n_threads or available_cores()
@@ -126,6 +115,7 @@ class LlamaCppBackend(LLMBackend):
         self._runtime = f"llama-cpp-python-{self._lib.__version__}"
         self._slots: list[_Slot] = []
         self._states: OrderedDict[str, PrefixState] = OrderedDict()  # by prefix_id
+        self._contexts = ContextStates(max_context_bytes)
         self._lock = threading.RLock()
         self._template: ChatTemplate | None = None
 
@@ -229,6 +219,33 @@ class LlamaCppBackend(LLMBackend):
         log.info("prefix %s (%d tokens): %s in %.2f s", prefix_id, base.n_tokens, source, seconds)
         return slot, {"prefix": source, "prefix_tokens": base.n_tokens, "prefix_seconds": seconds}
 
+    def _resume_context(self, slot: _Slot, request: LLMRequest,
+                        full: list[int]) -> dict[str, object]:
+        """Bring ``slot`` to the end of the request's context (its prefix and the examples chosen
+        for its query): already live, restored from memory, or evaluated and kept."""
+        if request.context_messages is None or request.prefix_id is None \
+                or self._contexts.max_bytes == 0 or self._template is None:
+            return {}
+        _, text = self._template.render(request.messages, request.context_messages)
+        if text is None:
+            return {}
+        tokens = self._tokenize(text)
+        n = len(tokens)
+        if n >= len(full) or tokens != full[:n]:
+            return {}
+        start = time.perf_counter()
+        have = common_prefix(slot.llm, tokens)
+        source = "live"
+        if have < n and (state := self._contexts.longest(tokens, longer_than=have)) is not None:
+            restore_state(self._lib, slot.llm, state)
+            have, source = state.n_tokens, "memory"
+        if have < n:
+            evaluate_exactly(slot.llm, tokens)
+            self._contexts.add(capture_state(self._lib, slot.llm, "context", n))
+            source = "evaluated"
+        return {"context": source, "context_tokens": n,
+                "context_seconds": time.perf_counter() - start}
+
     # ----------------------------------------------------------------------------- requests
 
     def warm_prefix(self, request: LLMRequest) -> dict[str, object]:
@@ -257,6 +274,7 @@ class LlamaCppBackend(LLMBackend):
                 )
             max_tokens = min(request.max_tokens, room)
             slot, info = self._prepare(request.prefix_id, prefix, tokens)
+            info.update(self._resume_context(slot, request, tokens))
             slot.used = time.monotonic()
             out = slot.llm.create_completion(
                 prompt=tokens,
@@ -281,3 +299,4 @@ class LlamaCppBackend(LLMBackend):
                 slot.llm.close()
             self._slots.clear()
             self._states.clear()
+            self._contexts.clear()
