@@ -20,10 +20,13 @@ sub-task, then median and max, and the process's peak resident memory.
 
 ``--retrieved K`` sets how many example-bank examples each program gets per query
 (``LMPConfig.retrieved_examples``; default: the config's), so the cost of examples chosen per
-query is measured on one machine against ``--retrieved 0``.
+query is measured on one machine against ``--retrieved 0``. ``--context-mib 0`` turns off keeping
+the model state after those examples (``LLMConfig.context_cache_mib``): every call evaluates
+them. In the suite's warm process kept states carry over from one instruction to the next, as in
+a benchmark worker; ``context_kept`` counts the calls that found theirs kept.
 
     python benchmarks/llm_latency.py [--instruction "..."] [--mode runtime|requests|suite]
-        [--retrieved K]
+        [--retrieved K] [--context-mib MIB]
 """
 
 from __future__ import annotations
@@ -95,6 +98,7 @@ class _Meter(LLMBackend):
                 "completion_tokens": response.completion_tokens,
                 "seconds": round(response.seconds, 2),
                 "prefix": response.extra.get("prefix", "cached" if response.cached else "-"),
+                "context": response.extra.get("context", "-"),
             }
         )
         return response
@@ -186,16 +190,20 @@ def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
     for call in result["calls"]:
         by_lmp.setdefault(str(call["lmp"]).split("~")[0], []).append(call)
     lmps = Table(title="per program (all calls of the suite)")
-    for column in ("program", "calls", "median gen tok", "median s", "prefix sources"):
+    for column in ("program", "calls", "median gen tok", "median s", "prefix sources",
+                   "examples kept / evaluated"):
         lmps.add_column(column)
     for name, group in sorted(by_lmp.items()):
         sources = sorted({str(c["prefix"]) for c in group})
+        kept = sum(c.get("context") in ("live", "memory") for c in group)
         lmps.add_row(name, str(len(group)),
                      f"{statistics.median(int(c['completion_tokens'] or 0) for c in group):g}",
                      f"{statistics.median(float(c['seconds']) for c in group):.1f}",
-                     ", ".join(sources))
+                     ", ".join(sources),
+                     f"{kept} / {sum(c.get('context') == 'evaluated' for c in group)}")
     console.print(lmps)
     generated = sum(r["completion_tokens"] for r in result["rows"])
+    context_kept = sum(c.get("context") in ("live", "memory") for c in result["calls"])
     console.print(f"{generated} tokens generated in {sum(r['llm_s'] for r in result['rows']):.0f} "
                   f"s of model time over {sum(calls)} calls")
     print(f"retrieved={args.retrieved if args.retrieved is not None else 'default'} "
@@ -203,7 +211,8 @@ def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
           f"one_subtask_max_s={max(single):.1f} "
           f"multi_per_subtask_median_s={statistics.median(per_subtask):.1f} "
           f"multi_per_subtask_max_s={max(per_subtask):.1f} "
-          f"calls_median={statistics.median(calls):g} peak_rss_mb={result['peak_rss_mb']:.0f}")
+          f"calls_median={statistics.median(calls):g} peak_rss_mb={result['peak_rss_mb']:.0f} "
+          f"context_kept={context_kept}/{len(result['calls'])}")
 
 
 def _spawn(phase: str, args: argparse.Namespace, cache_dir: Path) -> dict:
@@ -227,7 +236,12 @@ def main() -> None:
                              "prefix states of every program the suite uses)")
     parser.add_argument("--retrieved", type=int, default=None,
                         help="bank examples per query (default: LMPConfig's)")
+    parser.add_argument("--context-mib", type=int, default=None,
+                        help="memory for states after each query's retrieved examples [MiB] "
+                             "(VOXPOSER_LLM_CONTEXT_CACHE_MIB; 0 = evaluate them every call)")
     args = parser.parse_args()
+    if args.context_mib is not None:  # read by LLMConfig.from_env in the worker processes
+        os.environ["VOXPOSER_LLM_CONTEXT_CACHE_MIB"] = str(args.context_mib)
     if args.phase == "suite":  # worker process of --mode suite
         sys.stdout.write(json.dumps(_run_suite(args.cache_dir, args.retrieved)) + "\n")
         return

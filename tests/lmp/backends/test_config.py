@@ -30,6 +30,7 @@ def test_defaults_are_the_local_default_model() -> None:
         ({"max_retries": -1}, "max_retries=-1"),
         ({"n_ctx": 100}, "n_ctx=100"),
         ({"n_threads": 0}, "n_threads=0"),
+        ({"context_cache_mib": -1}, "context_cache_mib=-1"),
     ],
 )
 def test_invalid_values_name_field_and_value(kwargs: dict, field: str) -> None:
@@ -56,6 +57,7 @@ def test_from_env_parses_every_type(tmp_path: Path) -> None:
         "VOXPOSER_LLM_N_THREADS": "2",
         "VOXPOSER_LLM_CACHE": "off",
         "VOXPOSER_LLM_PREFIX_CACHE": "0",
+        "VOXPOSER_LLM_CONTEXT_CACHE_MIB": "256",
         "VOXPOSER_LLM_CACHE_DIR": str(tmp_path / "c"),
         "VOXPOSER_MODEL_DIR": str(tmp_path / "m"),
     }
@@ -65,6 +67,7 @@ def test_from_env_parses_every_type(tmp_path: Path) -> None:
     )  # fmt: skip
     assert (c.temperature, c.max_tokens, c.timeout, c.max_retries) == (0.3, 256, 12.5, 1)
     assert (c.n_ctx, c.n_threads, c.cache, c.prefix_cache) == (8192, 2, False, False)
+    assert c.context_cache_mib == 256
     assert c.cache_dir == tmp_path / "c" and c.model_dir == tmp_path / "m"
     assert resolve_api_key(c, {"MY_KEY": "sk-1"}) == "sk-1"
     assert resolve_api_key(c, {}) is None

@@ -35,6 +35,7 @@ ENV_VARS: dict[str, str] = {
     "VOXPOSER_LLM_N_THREADS": "n_threads",
     "VOXPOSER_LLM_CACHE": "cache",
     "VOXPOSER_LLM_PREFIX_CACHE": "prefix_cache",
+    "VOXPOSER_LLM_CONTEXT_CACHE_MIB": "context_cache_mib",
     "VOXPOSER_LLM_CACHE_DIR": "cache_dir",
     "VOXPOSER_LLM_PREFIX_CACHE_DIR": "prefix_cache_dir",
     "VOXPOSER_LLM_RECORDINGS": "recordings_path",
@@ -117,6 +118,8 @@ class LLMConfig:
         n_threads: CPU threads of in-process models; None = the cores available.
         cache: keep a persistent sqlite cache of responses (keyed by backend, model, request).
         prefix_cache: persist evaluated few-shot prefixes (KV state) to disk ("llama_cpp").
+        context_cache_mib: memory for the model states after each query's retrieved examples
+            [MiB] ("llama_cpp"; ~60 MiB each for the default model); 0 keeps none.
         cache_dir: directory of the response cache (and of the prefix states unless
             ``prefix_cache_dir`` is set); None = ``default_cache_dir()``.
         prefix_cache_dir: directory of the prefix-state (KV) store; None = the cache directory.
@@ -139,6 +142,7 @@ class LLMConfig:
     n_threads: int | None = None
     cache: bool = True
     prefix_cache: bool = True
+    context_cache_mib: int = 768
     cache_dir: Path | None = None
     prefix_cache_dir: Path | None = None
     model_dir: Path | None = None
@@ -169,6 +173,9 @@ class LLMConfig:
             raise ConfigError(f"n_ctx={self.n_ctx} tokens must be >= 512")
         if self.n_threads is not None and self.n_threads < 1:
             raise ConfigError(f"n_threads={self.n_threads} must be >= 1 (or None = all cores)")
+        if self.context_cache_mib < 0:
+            raise ConfigError(f"context_cache_mib={self.context_cache_mib} must be >= 0 "
+                              "(0 keeps no query context)")
         if not self.api_key_env:
             raise ConfigError("api_key_env='' must name an environment variable")
 

@@ -96,6 +96,7 @@ def _base_backend(config: LLMConfig) -> LLMBackend:
             n_threads=config.resolved_threads,
             state_store=store,
             model_sha256=sha,
+            max_context_bytes=config.context_cache_mib << 20,
         )
     raise ConfigError(  # pragma: no cover - LLMConfig validates the kind
         f"backend={config.backend!r} is unknown; choose one of: {', '.join(BACKEND_KINDS)}"
