@@ -40,6 +40,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -90,7 +91,13 @@ class _Meter(LLMBackend):
         return self.inner.model
 
     def complete(self, request: LLMRequest) -> LLMResponse:
-        response = self.inner.complete(request)
+        return self._meter(request, self.inner.complete(request))
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        responses = self.inner.complete_many(requests)
+        return [self._meter(q, r) for q, r in zip(requests, responses, strict=True)]
+
+    def _meter(self, request: LLMRequest, response: LLMResponse) -> LLMResponse:
         self.calls.append(
             {
                 "lmp": request.prefix_id,

@@ -12,6 +12,7 @@ from __future__ import annotations
 import logging
 import time
 import traceback
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
@@ -176,7 +177,13 @@ class CountingBackend(LLMBackend):
         return self.inner.model
 
     def complete(self, request: LLMRequest) -> LLMResponse:
-        response = self.inner.complete(request)
+        return self._count(request, self.inner.complete(request))
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        responses = self.inner.complete_many(requests)
+        return [self._count(q, r) for q, r in zip(requests, responses, strict=True)]
+
+    def _count(self, request: LLMRequest, response: LLMResponse) -> LLMResponse:
         self.calls += 1
         self.cached += bool(getattr(response, "cached", False))
         self.prompt_tokens += response.prompt_tokens

@@ -4,6 +4,7 @@ replanning rate and the distance to the target, and the backend wrapper that fee
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -65,6 +66,14 @@ def progress_backend(backend: Any, progress: RunProgress) -> Any:
                 return backend.complete(request)
             finally:
                 progress.llm_calls += 1
+                progress.llm = "idle"
+
+        def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+            progress.llm = f"asking {len(requests)} programs together…"
+            try:
+                return list(backend.complete_many(requests))
+            finally:
+                progress.llm_calls += len(requests)
                 progress.llm = "idle"
 
         def close(self) -> None:

@@ -137,6 +137,9 @@ class LMPConfig:
             ``quantity_said_plainly`` transcript event.
         retrieved_examples: how many examples of an LMP's example bank, the nearest to the
             query, follow its fixed examples (:mod:`voxposer.lmp.retrieval`; 0: none).
+        batch_map_calls: the value-map LMP calls a composer program makes with literal queries
+            are asked of the backend together before it runs (:mod:`voxposer.lmp.prefetch`;
+            the same programs, decoded in one batch where the backend can).
     """
 
     max_attempts: int = 3
@@ -167,6 +170,7 @@ class LMPConfig:
     ground_references: bool = True
     plain_quantities: bool = True
     retrieved_examples: int = 2
+    batch_map_calls: bool = True
 
     def __post_init__(self) -> None:
         if self.held_out_task is not None and self.held_out_task not in TASK_NAMES:

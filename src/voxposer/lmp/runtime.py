@@ -41,24 +41,25 @@ from voxposer.lmp.api import LMPAPI
 from voxposer.lmp.backends.base import ChatMessage, LLMBackend, LLMRequest
 from voxposer.lmp.checks import check_result
 from voxposer.lmp.codetext import extract_code
-from voxposer.lmp.execute_call import ExecuteCall
 from voxposer.lmp.handoff import ExecuteHandler, RecordingHandler
 from voxposer.lmp.instruction_forms import planner_instruction
 from voxposer.lmp.intent import IntentChecks
 from voxposer.lmp.plan_pipeline import complete_plan
 from voxposer.lmp.plan_review import PlanReview
+from voxposer.lmp.prefetch import Prefetched, map_queries
 from voxposer.lmp.program import ObjectProgram, ValueMapProgram
 from voxposer.lmp.prompt import Prompt, load_prompt
 from voxposer.lmp.query_forms import RETRY_MESSAGE, QueryForms, query_message
-from voxposer.lmp.registry import LMP_SPECS, MAP_LMPS, LMPConfig, LMPSpec, get_spec
+from voxposer.lmp.registry import LMP_SPECS, LMPConfig, LMPSpec, get_spec
 from voxposer.lmp.runtime_errors import NoRetry, NothingFound, describe, give_up, is_nothing
-from voxposer.lmp.sandbox import Sandbox, suspend_time_limit
+from voxposer.lmp.runtime_namespace import ProgramNamespaces
+from voxposer.lmp.sandbox import Sandbox
 from voxposer.lmp.scene import Scene
 from voxposer.lmp.transcript import Transcript
 
 logger = logging.getLogger(__name__)
 
-class LMPRuntime:
+class LMPRuntime(ProgramNamespaces):
     """The LMPs of one scene and backend.
 
     Args:
@@ -87,6 +88,7 @@ class LMPRuntime:
         self.llm_calls = 0
         self.code_cache: dict[tuple[str, str], str] = {}
         self._prompts: dict[str, Prompt] = {}
+        self._prefetched = Prefetched()
         self._depth = 0
         self._side_effects = 0
         self._subtask = ""
@@ -149,8 +151,7 @@ class LMPRuntime:
             raise ProgramError(f"LMP calls nested deeper than {self.config.max_depth} "
                                f"({spec.name}({query!r})); do not call LMPs recursively")
         prompt = self.prompt(spec.name)
-        base = prompt.messages(query_message(spec, query, self.scene.object_names),
-                               retrieved=self.config.retrieved_examples)
+        base = self._first_messages(spec, query)
         n_prefix = prompt.n_prefix_messages
         self.transcript.prompt_once(spec.name, [asdict(m) for m in base[:n_prefix]])
         messages = list(base)
@@ -177,6 +178,8 @@ class LMPRuntime:
                         continue
                 if spec.name == "planner":
                     code = self._complete_plan(query, code, attempt)
+                elif spec.name == "composer" and self.config.batch_map_calls:
+                    self._prefetch_maps(code)
                 effects = self._side_effects
                 try:
                     value = self._evaluate(spec, query, code, attempt=attempt, replay=False)
@@ -211,21 +214,49 @@ class LMPRuntime:
                              partial(self.transcript.write, "plan_completed", query=query,
                                      attempt=attempt))
 
+    def _first_messages(self, spec: LMPSpec, query: str) -> tuple[ChatMessage, ...]:
+        """The first attempt's conversation of ``spec(query)``: prompt, chosen examples, query."""
+        return self.prompt(spec.name).messages(query_message(spec, query, self.scene.object_names),
+                                               retrieved=self.config.retrieved_examples)
+
+    def _request(self, spec: LMPSpec, messages: list[ChatMessage] | tuple[ChatMessage, ...],
+                 n_prefix: int, n_context: int) -> LLMRequest:
+        return LLMRequest(messages=tuple(messages), temperature=self.config.temperature,
+                          max_tokens=self.config.max_tokens, stop=self.config.stop,
+                          prefix_id=self.prompt(spec.name).prefix_id,
+                          prefix_messages=n_prefix if n_prefix < len(messages) - 1 else None,
+                          context_messages=n_context if n_context > n_prefix else None)
+
+    def _prefetch_maps(self, code: str) -> None:
+        """The first requests of the map programs composer ``code`` calls with literal queries
+        (not yet generated), asked together (:mod:`voxposer.lmp.prefetch`)."""
+        wanted = [(get_spec(lmp), q) for lmp, q in map_queries(code)
+                  if (lmp, q) not in self.code_cache and (lmp, q) not in self._prefetched]
+        if len(wanted) < 2:
+            return
+        requests = [self._request(spec, base, self.prompt(spec.name).n_prefix_messages,
+                                  len(base) - 1)
+                    for spec, q in wanted for base in (self._first_messages(spec, q),)]
+        try:
+            responses = self.backend.complete_many(requests)
+        except LLMError as exc:  # each call then asks on its own (and meets the error itself)
+            logger.info("asking %d map programs together failed: %s", len(requests), exc)
+            return
+        for (spec, q), response in zip(wanted, responses, strict=True):
+            self._prefetched.put(spec.name, q, response)
+
     def _complete(self, spec: LMPSpec, query: str, messages: list[ChatMessage], n_prefix: int,
                   attempt: int, n_context: int) -> str:
-        request = LLMRequest(messages=tuple(messages), temperature=self.config.temperature,
-                             max_tokens=self.config.max_tokens, stop=self.config.stop,
-                             prefix_id=self.prompt(spec.name).prefix_id,
-                             prefix_messages=n_prefix if n_prefix < len(messages) - 1 else None,
-                             context_messages=n_context if n_context > n_prefix else None)
+        request = self._request(spec, messages, n_prefix, n_context)
         self.llm_calls += 1
         start = time.monotonic()
-        response = self.backend.complete(request)
+        held = self._prefetched.take(spec.name, query) if attempt == 1 else None
+        response = held if held is not None else self.backend.complete(request)
         self.transcript.write(
             "llm_call", lmp=spec.name, query=query, attempt=attempt,
             messages=[asdict(m) for m in messages[n_prefix:]], response=response.text,
-            model=response.model, seconds=round(time.monotonic() - start, 3),
-            cached=response.cached)
+            model=response.model, cached=response.cached, batched=held is not None,
+            seconds=round(response.seconds if held is not None else time.monotonic() - start, 3))
         return response.text
 
     def _evaluate(self, spec: LMPSpec, query: str, code: str, attempt: int, replay: bool) -> Any:
@@ -248,67 +279,3 @@ class LMPRuntime:
             self.transcript.write("exec", lmp=spec.name, query=query, attempt=attempt, code=code,
                                   ok=error is None, error=error,
                                   seconds=round(time.monotonic() - start, 4), replay=replay)
-
-    # ------------------------------------------------------------------ variable context
-    def _variables(self, spec: LMPSpec, query: str) -> dict[str, Any]:
-        """The names ``spec``'s code sees (shared API + LMP callables for its role)."""
-        out: dict[str, Any] = dict(self.api.namespace())
-        if spec.role == "map":
-            out["parse_query_obj"] = self._eager("parse_query_obj", context=query)
-        elif spec.role == "composer":
-            for name in ("parse_query_obj", *MAP_LMPS):
-                out[name] = self._lazy(name, context=query)
-            out["execute"] = ExecuteCall(query, self.handler, self.program, self.transcript,
-                                         self.intent, self._count_effect,
-                                         tuple(self.scene.object_names))
-            out["reset_to_default_pose"] = self._reset
-        elif spec.role == "planner":
-            out = {"composer": self._composer, "reset_to_default_pose": self._reset,
-                   **self.intent.namespace(_untimed)}
-        if spec.with_objects:
-            out["objects"] = list(self.scene.object_names)
-        return out
-
-    def _eager(self, lmp: str, context: str = "") -> Any:
-        def call(query: str) -> Any:
-            with suspend_time_limit():
-                return self.query(lmp, self.forms.rewritten(lmp, str(query), context))
-        call.__name__ = lmp
-        return call
-
-    def _lazy(self, lmp: str, context: str = "") -> Any:
-        def call(query: str) -> ValueMapProgram:
-            with suspend_time_limit():
-                return self.program(lmp, self.forms.rewritten(lmp, str(query), context))
-        call.__name__ = lmp
-        return call
-
-    def _composer(self, subtask: str) -> None:
-        self._side_effects += 1
-        with suspend_time_limit():
-            self.intent.begin_subtask(str(subtask))
-            previous, self._subtask = self._subtask, str(subtask)
-            try:
-                self.query("composer", str(subtask))
-            finally:
-                self._subtask = previous
-
-    def _reset(self) -> None:
-        self._side_effects += 1
-        with suspend_time_limit():
-            try:
-                self.handler.reset_to_default_pose()
-            except Exception as exc:
-                raise NoRetry(exc) from exc
-
-    def _count_effect(self) -> None:
-        self._side_effects += 1
-
-
-def _untimed(fn: Any) -> Any:
-    """``fn`` run outside the sandbox's time limit (trusted code that perceives)."""
-    def call(*args: Any, **kwargs: Any) -> Any:
-        with suspend_time_limit():
-            return fn(*args, **kwargs)
-    call.__name__ = getattr(fn, "__name__", "helper")
-    return call

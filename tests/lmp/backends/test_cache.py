@@ -71,6 +71,17 @@ def test_any_request_difference_is_a_miss(tmp_path: Path, other: LLMRequest) -> 
     assert llm.complete(other).text == "answer 2"
 
 
+def test_requests_together_ask_only_the_misses_and_keep_the_order(tmp_path: Path) -> None:
+    inner = CountingBackend()
+    llm = CachedBackend(inner, ResponseCache(tmp_path / "c.sqlite"))
+    llm.complete(req("b"))  # answer 1
+    together = llm.complete_many([req("a"), req("b"), req("c")])
+    assert [r.text for r in together] == ["answer 2", "answer 1", "answer 3"]
+    assert [r.cached for r in together] == [False, True, False] and inner.calls == 3
+    again = llm.complete_many([req("c"), req("a")])  # both stored now
+    assert [r.text for r in again] == ["answer 3", "answer 2"] and inner.calls == 3
+
+
 def test_the_context_hint_is_not_part_of_the_key(tmp_path: Path) -> None:
     inner = CountingBackend()
     llm = CachedBackend(inner, ResponseCache(tmp_path / "c.sqlite"))

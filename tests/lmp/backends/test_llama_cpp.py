@@ -4,6 +4,7 @@ are evaluated once — then reused live, from memory, and from disk in a new bac
 from __future__ import annotations
 
 import ast
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -160,3 +161,23 @@ def test_query_context_is_evaluated_once_then_restored(
     again = plain.complete(with_examples("# Query: push the can 6 cm in the +x direction."))
     assert "context" not in again.extra and again.text == second.text
     plain.close()
+
+
+@pytest.mark.slow
+def test_requests_generated_together_answer_as_one_after_another(
+    default_model_path: Path, tmp_path: Path
+) -> None:
+    llm = backend(default_model_path, tmp_path / "states")
+    requests = [request("# Query: lift the bowl by 4 cm."),
+                with_examples("# Query: push the can 6 cm in the +x direction."),
+                request("# Query: lift the cup by 1 cm.", "other", SYSTEM + " Be exact."),
+                request("# Query: slide the plate 2 cm in the -y direction.")]
+    alone = [llm.complete(r) for r in requests]
+    together = llm.complete_many(requests)  # 3 together, then 1
+    assert [r.text for r in together] == [r.text for r in alone]
+    assert [r.extra["batched"] for r in together[:3]] == [3, 3, 3]
+    assert "batched" not in together[3].extra or together[3].extra["batched"] == 1
+    assert [r.completion_tokens for r in together] == [r.completion_tokens for r in alone]
+    stopped = llm.complete_many([replace(requests[0], stop=("0.04",)), requests[2]])
+    assert stopped[0].text == alone[0].text.split("0.04")[0] and stopped[1].text == alone[2].text
+    llm.close()

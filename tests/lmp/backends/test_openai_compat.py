@@ -42,6 +42,18 @@ def test_success_returns_text_usage_and_sends_the_request(stub_server: StubServe
     assert (sent["max_tokens"], sent["temperature"], sent["stop"]) == (7, 0.0, ["#"])
 
 
+def test_requests_together_are_all_sent_and_answered(stub_server: StubServer) -> None:
+    stub_server.script = [(200, chat_body("y = 2"), {}, 0.0)]
+    queries = ["a", "b", "c"]
+    answers = backend(stub_server.url).complete_many(
+        [LLMRequest(messages=(ChatMessage("user", q),), max_tokens=8) for q in queries])
+    assert [a.text for a in answers] == ["y = 2"] * 3
+    assert sorted(r["messages"][0]["content"] for r in stub_server.requests) == queries
+    stub_server.script = [(400, {"error": {"message": "bad"}}, {}, 0.0)]
+    with pytest.raises(EndpointError, match="400"):
+        backend(stub_server.url).complete_many([REQUEST, REQUEST])
+
+
 @pytest.mark.parametrize("status", [500, 502, 503, 429])
 def test_retryable_status_is_retried_then_raises_naming_url_model_status(
     stub_server: StubServer, status: int

@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import json
 from abc import ABC, abstractmethod
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Literal
 
@@ -98,6 +99,12 @@ class LLMBackend(ABC):
     @abstractmethod
     def complete(self, request: LLMRequest) -> LLMResponse:
         """Answer ``request``; raise :class:`voxposer.errors.LLMError` subclasses on failure."""
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        """Answer independent ``requests`` (in their order), together where the backend can:
+        the same responses as :meth:`complete` one after another, which is what this default
+        does. Wrappers pass the whole list on, so the innermost backend can batch it."""
+        return [self.complete(r) for r in requests]
 
     def close(self) -> None:  # noqa: B027 - optional hook
         """Release resources (model memory, HTTP sessions)."""

@@ -13,6 +13,7 @@ import logging
 import sqlite3
 import threading
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, replace
 from pathlib import Path
 
@@ -153,6 +154,21 @@ class CachedBackend(LLMBackend):
         if not response.cached:
             self.cache.put(key, self.inner.name, request, response)
         return response
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        """Hits from the cache; the misses asked of ``inner`` together, then stored."""
+        out: list[LLMResponse | None] = []
+        for request in requests:
+            hit = self.cache.get(request.key(self.inner.name, self.inner.model))
+            out.append(None if hit is None else replace(hit, seconds=0.0))
+        misses = [k for k, r in enumerate(out) if r is None]
+        for k, response in zip(misses, self.inner.complete_many([requests[k] for k in misses]),
+                               strict=True):
+            if not response.cached:
+                self.cache.put(requests[k].key(self.inner.name, self.inner.model),
+                               self.inner.name, requests[k], response)
+            out[k] = response
+        return [r for r in out if r is not None]
 
     def close(self) -> None:
         self.inner.close()

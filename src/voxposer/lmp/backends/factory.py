@@ -7,6 +7,7 @@ cache → the backend itself, so cache keys see the request the model actually a
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -42,14 +43,18 @@ class DecodingOverrides(LLMBackend):
     def model(self) -> str:
         return self.inner.model
 
-    def complete(self, request: LLMRequest) -> LLMResponse:
-        return self.inner.complete(
-            replace(
-                request,
-                temperature=request.temperature if self.temperature is None else self.temperature,
-                max_tokens=request.max_tokens if self.max_tokens is None else self.max_tokens,
-            )
+    def _override(self, request: LLMRequest) -> LLMRequest:
+        return replace(
+            request,
+            temperature=request.temperature if self.temperature is None else self.temperature,
+            max_tokens=request.max_tokens if self.max_tokens is None else self.max_tokens,
         )
+
+    def complete(self, request: LLMRequest) -> LLMResponse:
+        return self.inner.complete(self._override(request))
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        return self.inner.complete_many([self._override(r) for r in requests])
 
     def close(self) -> None:
         self.inner.close()

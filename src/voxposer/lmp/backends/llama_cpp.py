@@ -11,8 +11,9 @@ It is evaluated once; its KV state is then
   process skips the evaluation too.
 
 The examples chosen per query (a request's ``context_messages``) extend that prefix; the state at
-their end is kept in memory too (:class:`ContextStates`), so a later query given the same
-examples evaluates only itself.
+their end is kept in memory too, so a later query given the same examples evaluates only itself
+(:mod:`voxposer.lmp.backends.llama_reuse`). :meth:`LlamaCppBackend.complete_many` generates
+several greedy requests together (:mod:`voxposer.lmp.backends.llama_batch`).
 
 By default one context serves all programs and swaps prefix states (``max_contexts=1``, ~1 s per
 switch including the query): each extra context costs ~0.8 GB of private memory (measured:
@@ -24,31 +25,24 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from collections import OrderedDict
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from voxposer.errors import ConfigError, LLMError
 from voxposer.lmp.backends.base import LLMBackend, LLMRequest, LLMResponse
 from voxposer.lmp.backends.config import available_cores
-from voxposer.lmp.backends.context_states import ContextStates
+from voxposer.lmp.backends.llama_batch import BatchDecoder, Prompted, sequence_state
 from voxposer.lmp.backends.llama_context import (
     ChatTemplate,
-    capture_state,
     common_prefix,
     evaluate_exactly,
     import_llama_cpp,
-    restore_state,
 )
-from voxposer.lmp.backends.prefix_state import (
-    PrefixState,
-    PrefixStateStore,
-    file_fingerprint,
-    prefix_key,
-)
+from voxposer.lmp.backends.llama_reuse import StateReuse
+from voxposer.lmp.backends.prefix_state import PrefixStateStore, file_fingerprint
 
 log = logging.getLogger(__name__)
 
@@ -78,6 +72,8 @@ class LlamaCppBackend(LLMBackend):
         max_memory_states: evaluated prefix states kept in memory for swapping.
         max_context_bytes: memory for states at the end of queries' contexts (few-shot prefix
             plus the examples chosen per query) [bytes]; 0 keeps none.
+        max_batch: requests generated together by :meth:`complete_many` (a second context of
+            ``max_batch`` × ``n_ctx`` KV cells, ~28 KB each for the default model); 1: none.
     """
 
     name = "llama_cpp"
@@ -95,6 +91,7 @@ class LlamaCppBackend(LLMBackend):
         max_contexts: int = 1,
         max_memory_states: int = 16,
         max_context_bytes: int = 768 << 20,
+        max_batch: int = 3,
     ) -> None:
         self.model_path = Path(model_path)
         if not self.model_path.is_file():
@@ -108,14 +105,14 @@ class LlamaCppBackend(LLMBackend):
         self.n_ctx = n_ctx
         self.n_threads = n_threads or available_cores()
         self.n_batch = n_batch
-        self.state_store = state_store
         self.max_contexts = max_contexts
-        self.max_memory_states = max_memory_states
-        self._fingerprint = file_fingerprint(self.model_path, model_sha256)
-        self._runtime = f"llama-cpp-python-{self._lib.__version__}"
+        store_key = (file_fingerprint(self.model_path, model_sha256),
+                     f"llama-cpp-python-{self._lib.__version__}", n_ctx)
+        self._reuse = StateReuse(self._lib, store_key, state_store, max_memory_states,
+                                 max_context_bytes)
         self._slots: list[_Slot] = []
-        self._states: OrderedDict[str, PrefixState] = OrderedDict()  # by prefix_id
-        self._contexts = ContextStates(max_context_bytes)
+        self.max_batch = max_batch
+        self._batch: BatchDecoder | None = None
         self._lock = threading.RLock()
         self._template: ChatTemplate | None = None
 
@@ -170,23 +167,6 @@ class LlamaCppBackend(LLMBackend):
 
     # ----------------------------------------------------------------------------- states
 
-    def _remember(self, prefix_id: str, state: PrefixState) -> None:
-        self._states[prefix_id] = state
-        self._states.move_to_end(prefix_id)
-        while len(self._states) > self.max_memory_states:
-            self._states.popitem(last=False)
-
-    def _known_base(self, prefix_id: str, tokens: list[int]) -> PrefixState | None:
-        """The remembered prefix state of ``prefix_id`` if ``tokens`` start with it.
-
-        A self-correction retry appends turns after the query; its prefix then extends the
-        program's few-shot prefix, which is reused rather than saved again.
-        """
-        state = self._states.get(prefix_id)
-        if state is None or state.n_tokens > len(tokens):
-            return None
-        return state if np.array_equal(state.tokens, tokens[: state.n_tokens]) else None
-
     def _prepare(
         self, prefix_id: str | None, prefix: str | None, full: list[int]
     ) -> tuple[_Slot, dict[str, object]]:
@@ -197,54 +177,20 @@ class LlamaCppBackend(LLMBackend):
         tokens = self._tokenize(prefix)
         if len(tokens) < MIN_PREFIX_TOKENS or len(tokens) >= self.n_ctx - 16:
             return slot, {"prefix": "none"}
-        start = time.perf_counter()
-        base = self._known_base(prefix_id, tokens)
-        source = "memory"
-        if base is None:
-            key = prefix_key(self._fingerprint, self._runtime, self.n_ctx, prefix)
-            base = self.state_store.load(key) if self.state_store is not None else None
-            source = "disk"
-            if base is None or not np.array_equal(base.tokens, tokens):
-                source = "evaluated"
-                evaluate_exactly(slot.llm, tokens)
-                base = capture_state(self._lib, slot.llm, key, len(tokens))
-                if self.state_store is not None:
-                    self.state_store.save(base, prefix_id)
-            self._remember(prefix_id, base)
-        if common_prefix(slot.llm, base.tokens) >= base.n_tokens:
-            source = "live" if source == "memory" else source
-        else:
-            restore_state(self._lib, slot.llm, base)
-        seconds = time.perf_counter() - start
-        log.info("prefix %s (%d tokens): %s in %.2f s", prefix_id, base.n_tokens, source, seconds)
-        return slot, {"prefix": source, "prefix_tokens": base.n_tokens, "prefix_seconds": seconds}
+        return slot, self._reuse.prefix(slot.llm, prefix_id, prefix, tokens)
 
     def _resume_context(self, slot: _Slot, request: LLMRequest,
                         full: list[int]) -> dict[str, object]:
         """Bring ``slot`` to the end of the request's context (its prefix and the examples chosen
-        for its query): already live, restored from memory, or evaluated and kept."""
+        for its query), when the request marks one."""
         if request.context_messages is None or request.prefix_id is None \
-                or self._contexts.max_bytes == 0 or self._template is None:
+                or self._reuse.contexts.max_bytes == 0 or self._template is None:
             return {}
         _, text = self._template.render(request.messages, request.context_messages)
-        if text is None:
+        tokens = self._tokenize(text) if text is not None else full
+        if len(tokens) >= len(full) or tokens != full[:len(tokens)]:
             return {}
-        tokens = self._tokenize(text)
-        n = len(tokens)
-        if n >= len(full) or tokens != full[:n]:
-            return {}
-        start = time.perf_counter()
-        have = common_prefix(slot.llm, tokens)
-        source = "live"
-        if have < n and (state := self._contexts.longest(tokens, longer_than=have)) is not None:
-            restore_state(self._lib, slot.llm, state)
-            have, source = state.n_tokens, "memory"
-        if have < n:
-            evaluate_exactly(slot.llm, tokens)
-            self._contexts.add(capture_state(self._lib, slot.llm, "context", n))
-            source = "evaluated"
-        return {"context": source, "context_tokens": n,
-                "context_seconds": time.perf_counter() - start}
+        return self._reuse.context(slot.llm, tokens)
 
     # ----------------------------------------------------------------------------- requests
 
@@ -259,23 +205,66 @@ class LlamaCppBackend(LLMBackend):
             _, info = self._prepare(request.prefix_id, prefix, self._tokenize(full))
             return info
 
-    def complete(self, request: LLMRequest) -> LLMResponse:
+    def _staged(self, request: LLMRequest) -> tuple[_Slot, list[int], int, dict[str, object]]:
+        """(a context holding the request's prefix and examples, the prompt's tokens, the
+        generation limit, how the prefix and examples were obtained)."""
         if not request.messages:
             raise LLMError("request has no messages")
+        full, prefix = self._render(request)
+        tokens = self._tokenize(full)
+        room = self.n_ctx - len(tokens)
+        if room < 16:
+            raise LLMError(
+                f"prompt of {len(tokens)} tokens does not fit n_ctx={self.n_ctx} of "
+                f"{self.model}; raise n_ctx (VOXPOSER_LLM_N_CTX) or shorten the prompt"
+            )
+        slot, info = self._prepare(request.prefix_id, prefix, tokens)
+        info.update(self._resume_context(slot, request, tokens))
+        slot.used = time.monotonic()
+        return slot, tokens, min(request.max_tokens, room), info
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        """Greedy requests generated together, ``max_batch`` at a time (:mod:`llama_batch`);
+        others, or a single one, one after another."""
+        if len(requests) < 2 or self.max_batch < 2 or any(r.temperature > 0 for r in requests):
+            return super().complete_many(requests)
+        out: list[LLMResponse] = []
+        with self._lock:
+            for k in range(0, len(requests), self.max_batch):
+                chunk = requests[k:k + self.max_batch]
+                try:
+                    out += self._together(chunk)
+                except LLMError as exc:  # e.g. a runtime whose state layout differs
+                    log.warning("generating %d requests together failed (%s); one after "
+                                "another from now on", len(chunk), exc)
+                    self.max_batch = 1
+                    out += [self.complete(r) for r in chunk]
+        return out
+
+    def _together(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        start = time.perf_counter()
+        staged = []
+        for request in requests:
+            slot, tokens, max_tokens, info = self._staged(request)
+            evaluate_exactly(slot.llm, tokens[:-1])
+            staged.append((tokens, info, Prompted(
+                sequence_state(self._lib, slot.llm), tokens[-1], len(tokens) - 1, max_tokens,
+                partial(_cut_at_stop, stops=request.stop))))
+        if self._batch is None:
+            self._batch = BatchDecoder(self._lib, self._first_llm(), self.n_ctx * self.max_batch,
+                                       self.max_batch, self.n_threads, self.n_batch)
+        generated = self._batch.generate([p for _, _, p in staged])
+        share = (time.perf_counter() - start) / len(requests)  # the call's time, split evenly
+        return [LLMResponse(text=g.text, model=self._model_name, prompt_tokens=len(tokens),
+                            completion_tokens=g.tokens, seconds=share,
+                            extra={**info, "finish_reason": g.finish_reason,
+                                   "batched": len(requests)})
+                for (tokens, info, _), g in zip(staged, generated, strict=True)]
+
+    def complete(self, request: LLMRequest) -> LLMResponse:
         with self._lock:
             start = time.perf_counter()
-            full, prefix = self._render(request)
-            tokens = self._tokenize(full)
-            room = self.n_ctx - len(tokens)
-            if room < 16:
-                raise LLMError(
-                    f"prompt of {len(tokens)} tokens does not fit n_ctx={self.n_ctx} of "
-                    f"{self.model}; raise n_ctx (VOXPOSER_LLM_N_CTX) or shorten the prompt"
-                )
-            max_tokens = min(request.max_tokens, room)
-            slot, info = self._prepare(request.prefix_id, prefix, tokens)
-            info.update(self._resume_context(slot, request, tokens))
-            slot.used = time.monotonic()
+            slot, tokens, max_tokens, info = self._staged(request)
             out = slot.llm.create_completion(
                 prompt=tokens,
                 max_tokens=max_tokens,
@@ -297,6 +286,14 @@ class LlamaCppBackend(LLMBackend):
         with self._lock:
             for slot in self._slots:
                 slot.llm.close()
+            if self._batch is not None:
+                self._batch.close()
+                self._batch = None
             self._slots.clear()
-            self._states.clear()
-            self._contexts.clear()
+            self._reuse.clear()
+
+
+def _cut_at_stop(text: str, stops: tuple[str, ...]) -> str | None:
+    """``text`` up to its first stop sequence, or None when it holds none."""
+    found = [i for i in (text.find(s) for s in stops) if i >= 0]
+    return text[:min(found)] if found else None

@@ -19,7 +19,8 @@ import itertools
 import logging
 import math
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from typing import cast
 
 import httpx2
@@ -42,6 +43,7 @@ log = logging.getLogger(__name__)
 OPENAI_URL = "https://api.openai.com/v1"
 #: sent when no key is configured; local servers (vLLM, Ollama, llama.cpp) ignore it
 NO_KEY = "no-key"
+MAX_CONCURRENT = 4  # requests of one complete_many call in flight at once
 #: statuses worth asking again: request timeout, rate limit, and server errors (5xx)
 RETRYABLE_STATUSES = frozenset({408, 429})
 #: shortest time an attempt is given when the budget is nearly spent [s]
@@ -95,6 +97,14 @@ class OpenAICompatBackend(LLMBackend):
     @property
     def model(self) -> str:
         return self._model
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        """The requests sent concurrently (at most ``MAX_CONCURRENT`` at a time), answers in
+        their order; the first failure is raised."""
+        if len(requests) < 2:
+            return super().complete_many(requests)
+        with ThreadPoolExecutor(min(len(requests), MAX_CONCURRENT)) as pool:
+            return list(pool.map(self.complete, requests))
 
     def complete(self, request: LLMRequest) -> LLMResponse:
         start = time.monotonic()

@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import threading
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -116,7 +117,13 @@ class RecordingBackend(LLMBackend):
         return self.inner.model
 
     def complete(self, request: LLMRequest) -> LLMResponse:
-        response = self.inner.complete(request)
+        return self._record(request, self.inner.complete(request))
+
+    def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
+        responses = self.inner.complete_many(requests)
+        return [self._record(q, r) for q, r in zip(requests, responses, strict=True)]
+
+    def _record(self, request: LLMRequest, response: LLMResponse) -> LLMResponse:
         query, attempt = request_query(request.messages)
         entry = {"key": request.key(self.inner.name, self.inner.model), "backend": self.inner.name,
                  "model": self.inner.model, "lmp": lmp_of(request.prefix_id), "query": query,
