@@ -22,11 +22,12 @@ sub-task, then median and max, and the process's peak resident memory.
 (``LMPConfig.retrieved_examples``; default: the config's), so the cost of examples chosen per
 query is measured on one machine against ``--retrieved 0``. ``--context-mib 0`` turns off keeping
 the model state after those examples (``LLMConfig.context_cache_mib``): every call evaluates
-them. In the suite's warm process kept states carry over from one instruction to the next, as in
+them; ``--no-batch`` asks a composer program's map calls one after another instead of generating
+them together (``LMPConfig.batch_map_calls``). In the suite's warm process kept states carry over from one instruction to the next, as in
 a benchmark worker; ``context_kept`` counts the calls that found theirs kept.
 
     python benchmarks/llm_latency.py [--instruction "..."] [--mode runtime|requests|suite]
-        [--retrieved K] [--context-mib MIB]
+        [--retrieved K] [--context-mib MIB] [--no-batch]
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ import sys
 import tempfile
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -114,14 +116,15 @@ class _Meter(LLMBackend):
         self.inner.close()
 
 
-def _config(retrieved: int | None) -> Any:
+def _config(retrieved: int | None, batch: bool = True) -> Any:
     from voxposer.lmp import LMPConfig
 
-    return LMPConfig() if retrieved is None else LMPConfig(retrieved_examples=retrieved)
+    config = LMPConfig(batch_map_calls=batch)
+    return config if retrieved is None else replace(config, retrieved_examples=retrieved)
 
 
 def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: bool,
-               retrieved: int | None = None) -> dict:
+               retrieved: int | None = None, batch: bool = True) -> dict:
     start = time.perf_counter()
     meter = _Meter(make_backend(LLMConfig.from_env(cache_dir=cache_dir, cache=response_cache)))
     error = None
@@ -130,7 +133,8 @@ def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: boo
         from voxposer.lmp import LMPRuntime, make_tabletop_scene
 
         try:
-            LMPRuntime(make_tabletop_scene(), meter, config=_config(retrieved)).run(instruction)
+            LMPRuntime(make_tabletop_scene(), meter, config=_config(retrieved, batch)).run(
+                instruction)
         except VoxPoserError as exc:  # the model's code failed; the LLM time still counts
             error = f"{type(exc).__name__}: {str(exc)[:200]}"
     else:
@@ -144,7 +148,7 @@ def _run_phase(mode: str, instruction: str, cache_dir: Path, response_cache: boo
     return {"seconds": seconds, "calls": meter.calls, "error": error}
 
 
-def _run_suite(cache_dir: Path, retrieved: int | None = None) -> dict:
+def _run_suite(cache_dir: Path, retrieved: int | None = None, batch: bool = True) -> dict:
     """Every ``SUITE`` instruction in this process, warm (prefix states from ``cache_dir``, no
     response cache): per instruction its calls, LLM seconds and composer calls."""
     from voxposer.errors import VoxPoserError
@@ -156,7 +160,8 @@ def _run_suite(cache_dir: Path, retrieved: int | None = None) -> dict:
         meter.calls = []
         error = None
         try:
-            LMPRuntime(make_tabletop_scene(), meter, config=_config(retrieved)).run(instruction)
+            LMPRuntime(make_tabletop_scene(), meter, config=_config(retrieved, batch)).run(
+                instruction)
         except VoxPoserError as exc:
             error = f"{type(exc).__name__}: {str(exc)[:120]}"
         rows.append({"instruction": instruction, "calls": len(meter.calls),
@@ -214,6 +219,8 @@ def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
     console.print(f"{generated} tokens generated in {sum(r['llm_s'] for r in result['rows']):.0f} "
                   f"s of model time over {sum(calls)} calls")
     print(f"retrieved={args.retrieved if args.retrieved is not None else 'default'} "
+          f"batch={'off' if args.no_batch else 'on'} "
+          f"context_mib={os.environ.get('VOXPOSER_LLM_CONTEXT_CACHE_MIB', 'default')} "
           f"one_subtask_median_s={statistics.median(single):.1f} "
           f"one_subtask_max_s={max(single):.1f} "
           f"multi_per_subtask_median_s={statistics.median(per_subtask):.1f} "
@@ -227,6 +234,8 @@ def _spawn(phase: str, args: argparse.Namespace, cache_dir: Path) -> dict:
            "--instruction", args.instruction, "--cache-dir", str(cache_dir)]  # fmt: skip
     if args.retrieved is not None:
         cmd += ["--retrieved", str(args.retrieved)]
+    if args.no_batch:
+        cmd += ["--no-batch"]
     out = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -246,16 +255,20 @@ def main() -> None:
     parser.add_argument("--context-mib", type=int, default=None,
                         help="memory for states after each query's retrieved examples [MiB] "
                              "(VOXPOSER_LLM_CONTEXT_CACHE_MIB; 0 = evaluate them every call)")
+    parser.add_argument("--no-batch", action="store_true",
+                        help="a composer's map calls one after another (LMPConfig."
+                             "batch_map_calls=False) instead of generated together")
     args = parser.parse_args()
     if args.context_mib is not None:  # read by LLMConfig.from_env in the worker processes
         os.environ["VOXPOSER_LLM_CONTEXT_CACHE_MIB"] = str(args.context_mib)
     if args.phase == "suite":  # worker process of --mode suite
-        sys.stdout.write(json.dumps(_run_suite(args.cache_dir, args.retrieved)) + "\n")
+        sys.stdout.write(json.dumps(_run_suite(args.cache_dir, args.retrieved,
+                                               not args.no_batch)) + "\n")
         return
     if args.phase:  # worker process
         mode = "runtime" if args.mode == "suite" else args.mode
         result = _run_phase(mode, args.instruction, args.cache_dir, args.phase != "cold",
-                            args.retrieved)
+                            args.retrieved, not args.no_batch)
         sys.stdout.write(json.dumps(result) + "\n")
         return
 
