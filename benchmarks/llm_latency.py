@@ -22,12 +22,12 @@ sub-task, then median and max, and the process's peak resident memory.
 (``LMPConfig.retrieved_examples``; default: the config's), so the cost of examples chosen per
 query is measured on one machine against ``--retrieved 0``. ``--context-mib 0`` turns off keeping
 the model state after those examples (``LLMConfig.context_cache_mib``): every call evaluates
-them; ``--no-batch`` asks a composer program's map calls one after another instead of generating
-them together (``LMPConfig.batch_map_calls``). In the suite's warm process kept states carry over from one instruction to the next, as in
+them; ``--batch`` generates a composer program's map calls together instead of one after another
+(``LMPConfig.batch_map_calls``). In the suite's warm process kept states carry over from one instruction to the next, as in
 a benchmark worker; ``context_kept`` counts the calls that found theirs kept.
 
     python benchmarks/llm_latency.py [--instruction "..."] [--mode runtime|requests|suite]
-        [--retrieved K] [--context-mib MIB] [--no-batch]
+        [--retrieved K] [--context-mib MIB] [--batch]
 """
 
 from __future__ import annotations
@@ -219,7 +219,7 @@ def _suite(args: argparse.Namespace, console: Console, cache_dir: Path) -> None:
     console.print(f"{generated} tokens generated in {sum(r['llm_s'] for r in result['rows']):.0f} "
                   f"s of model time over {sum(calls)} calls")
     print(f"retrieved={args.retrieved if args.retrieved is not None else 'default'} "
-          f"batch={'off' if args.no_batch else 'on'} "
+          f"batch={'on' if args.batch else 'off'} "
           f"context_mib={os.environ.get('VOXPOSER_LLM_CONTEXT_CACHE_MIB', 'default')} "
           f"one_subtask_median_s={statistics.median(single):.1f} "
           f"one_subtask_max_s={max(single):.1f} "
@@ -234,8 +234,8 @@ def _spawn(phase: str, args: argparse.Namespace, cache_dir: Path) -> dict:
            "--instruction", args.instruction, "--cache-dir", str(cache_dir)]  # fmt: skip
     if args.retrieved is not None:
         cmd += ["--retrieved", str(args.retrieved)]
-    if args.no_batch:
-        cmd += ["--no-batch"]
+    if args.batch:
+        cmd += ["--batch"]
     out = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True).stdout
     return json.loads(out.strip().splitlines()[-1])
 
@@ -255,20 +255,20 @@ def main() -> None:
     parser.add_argument("--context-mib", type=int, default=None,
                         help="memory for states after each query's retrieved examples [MiB] "
                              "(VOXPOSER_LLM_CONTEXT_CACHE_MIB; 0 = evaluate them every call)")
-    parser.add_argument("--no-batch", action="store_true",
-                        help="a composer's map calls one after another (LMPConfig."
-                             "batch_map_calls=False) instead of generated together")
+    parser.add_argument("--batch", action="store_true",
+                        help="a composer's map calls generated together (LMPConfig."
+                             "batch_map_calls=True) instead of one after another")
     args = parser.parse_args()
     if args.context_mib is not None:  # read by LLMConfig.from_env in the worker processes
         os.environ["VOXPOSER_LLM_CONTEXT_CACHE_MIB"] = str(args.context_mib)
     if args.phase == "suite":  # worker process of --mode suite
         sys.stdout.write(json.dumps(_run_suite(args.cache_dir, args.retrieved,
-                                               not args.no_batch)) + "\n")
+                                               args.batch)) + "\n")
         return
     if args.phase:  # worker process
         mode = "runtime" if args.mode == "suite" else args.mode
         result = _run_phase(mode, args.instruction, args.cache_dir, args.phase != "cold",
-                            args.retrieved, not args.no_batch)
+                            args.retrieved, args.batch)
         sys.stdout.write(json.dumps(result) + "\n")
         return
 

@@ -62,6 +62,10 @@ def run(batch: bool) -> tuple[LMPRuntime, Batches]:
     return rt, backend
 
 
+def test_asking_together_is_off_by_default() -> None:
+    assert LMPConfig().batch_map_calls is False
+
+
 def test_the_composer_s_map_calls_are_asked_together_with_the_same_programs() -> None:
     batched, asked = run(batch=True)
     one_by_one, single = run(batch=False)
