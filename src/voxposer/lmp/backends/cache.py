@@ -157,16 +157,16 @@ class CachedBackend(LLMBackend):
 
     def complete_many(self, requests: Sequence[LLMRequest]) -> list[LLMResponse]:
         """Hits from the cache; the misses asked of ``inner`` together, then stored."""
+        keys = [r.key(self.inner.name, self.inner.model) for r in requests]
         out: list[LLMResponse | None] = []
-        for request in requests:
-            hit = self.cache.get(request.key(self.inner.name, self.inner.model))
+        for key in keys:
+            hit = self.cache.get(key)
             out.append(None if hit is None else replace(hit, seconds=0.0))
         misses = [k for k, r in enumerate(out) if r is None]
         for k, response in zip(misses, self.inner.complete_many([requests[k] for k in misses]),
                                strict=True):
             if not response.cached:
-                self.cache.put(requests[k].key(self.inner.name, self.inner.model),
-                               self.inner.name, requests[k], response)
+                self.cache.put(keys[k], self.inner.name, requests[k], response)
             out[k] = response
         return [r for r in out if r is not None]
 

@@ -187,7 +187,9 @@ class LlamaCppBackend(LLMBackend):
                 or self._reuse.contexts.max_bytes == 0 or self._template is None:
             return {}
         _, text = self._template.render(request.messages, request.context_messages)
-        tokens = self._tokenize(text) if text is not None else full
+        if text is None:
+            return {}
+        tokens = self._tokenize(text)
         if len(tokens) >= len(full) or tokens != full[:len(tokens)]:
             return {}
         return self._reuse.context(slot.llm, tokens)

@@ -72,7 +72,7 @@ class StateReuse:
         base = self._known_base(prefix_id, tokens)
         source = "memory"
         if base is None:
-            key = prefix_key(*self._store_key[:2], self._store_key[2], text)
+            key = prefix_key(*self._store_key, text)
             base = self.state_store.load(key) if self.state_store is not None else None
             source = "disk"
             if base is None or not np.array_equal(base.tokens, tokens):
