@@ -85,3 +85,49 @@ def test_near_blocked_is_the_3x3x3_neighbourhood_of_blocked_voxels() -> None:
     blocked = rng.random(SHAPE) < 0.01
     expected = ndimage.binary_dilation(blocked, structure=np.ones((3, 3, 3), bool))
     assert np.array_equal(near_blocked(blocked), expected)
+
+
+def _dijkstra_cost(cost: np.ndarray, blocked: np.ndarray, target: tuple[int, int, int],
+                   start: tuple[int, int, int], length_weight: float) -> float:
+    """The lowest path cost by Dijkstra (scipy.sparse.csgraph) over the moves the search allows:
+    26-connected, into free voxels, cutting no corner, each costing ``|step| * (w + cost[v])``."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    shape = cost.shape
+    index = np.arange(cost.size).reshape(shape)
+    rows, cols, weights = [], [], []
+    for u in np.argwhere(~blocked):
+        for step in np.argwhere(np.ones((3, 3, 3), bool)) - 1:
+            v = u + step
+            if not step.any() or np.any(v < 0) or np.any(v >= shape) or blocked[tuple(v)]:
+                continue
+            lo, hi = np.minimum(u, v), np.maximum(u, v) + 1
+            box = blocked[lo[0]:hi[0], lo[1]:hi[1], lo[2]:hi[2]]
+            if box.any():  # u is free, so any blocked voxel of the box is a cut corner
+                continue
+            rows.append(index[tuple(u)])
+            cols.append(index[tuple(v)])
+            weights.append(np.linalg.norm(step) * (length_weight + cost[tuple(v)]))
+    graph = coo_matrix((weights, (rows, cols)), shape=(cost.size, cost.size)).tocsr()
+    return float(dijkstra(graph, indices=index[start])[index[target]])
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_search_finds_the_lowest_cost_path_on_an_affordance_cost(seed: int) -> None:
+    """With the planner's affordance term (2 d / d_max) plus a random avoidance cost, A* (whose
+    heuristic must never overestimate) pays exactly what Dijkstra's full search pays."""
+    rng = np.random.default_rng(seed)
+    shape = (11, 11, 11)
+    target, start = (8, 7, 8), (1, 2, 1)
+    mask = np.zeros(shape, bool)
+    mask[target] = True
+    dist = ndimage.distance_transform_edt(~mask).astype(np.float32)
+    blocked = rng.random(shape) < 0.2
+    blocked[target] = blocked[start] = False
+    cost = (2.0 * dist / dist.max() + rng.random(shape) * 0.5).astype(np.float32)
+    found = astar(cost, blocked, mask, dist, np.array(start), length_weight=0.1,
+                  affordance_scale=2.0 / float(dist.max()))
+    expected = _dijkstra_cost(cost, blocked, target, start, 0.1)
+    assert np.isfinite(expected)
+    assert found.cost == pytest.approx(expected, rel=1e-6)

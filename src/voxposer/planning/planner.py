@@ -21,6 +21,7 @@ from voxposer.geometry.frames import TOP_DOWN_QUAT
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.planning.planner_config import PlanMethod, PlannerConfig
 from voxposer.planning.search import astar, greedy_descent
+from voxposer.planning.shortcut import shortcut
 from voxposer.planning.trajectory import Trajectory, collides, extract_trajectory, resample, smooth
 from voxposer.valuemaps.cost import CostMap, CostMapConfig, compose_cost_map, without_keep_out
 from voxposer.valuemaps.maps import check_value_map
@@ -251,11 +252,12 @@ class PathPlanner:
         cfg = self.config
         centres = cmap.grid.voxel_to_world(path)
         end = self._target_point(cmap, path[-1]) if reached else centres[-1]
-        raw = (
-            np.vstack([cmap.start, centres[1:-1], end])
-            if len(path) > 1
-            else np.vstack([cmap.start, end])
-        )
+        raw = np.vstack([cmap.start, centres[1:-1], end]) if len(path) > 1 else \
+            np.vstack([cmap.start, end])
+        if cfg.shortcut and cfg.method == "global":
+            straight = shortcut(raw, cmap.grid, cmap.cost, cmap.obstacles, cfg.length_weight)
+            if not collides(straight, self.grid, cmap.fine_obstacles):
+                raw = straight
         raw = resample(raw, cfg.waypoint_spacing_m)
         smoothed = resample(
             smooth(raw, cfg.savgol_window, cfg.savgol_polyorder), cfg.waypoint_spacing_m

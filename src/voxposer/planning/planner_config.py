@@ -34,6 +34,8 @@ class PlannerConfig:
             less than ``grasp_approach_m`` before the target are replaced by it [m]; the open
             fingers span ≈ 9 cm, so a slanted approach within it catches the object's edge and
             tilts it.
+        shortcut: straighten the found path where a straight segment costs no more
+            (:mod:`voxposer.planning.shortcut`; global method only).
     """
 
     method: PlanMethod = "global"
@@ -46,6 +48,7 @@ class PlannerConfig:
     greedy_max_steps: int = 300
     grasp_approach_m: float = 0.06
     grasp_approach_radius_m: float = 0.06
+    shortcut: bool = True
 
     def __post_init__(self) -> None:
         if self.method not in ("global", "greedy"):

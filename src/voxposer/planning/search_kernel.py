@@ -148,7 +148,7 @@ def astar_kernel(  # pragma: no cover - compiled
                         d = dist_f[v]
                         h = length_weight * d
                         if d > SQRT3:
-                            h += aff_scale * 0.5 * (d - SQRT3) ** 2
+                            h += aff_scale * 0.5 * d * (d - SQRT3)
                         if size == cap:  # grow (stale duplicates can exceed n entries)
                             cap *= 2
                             keys = np.concatenate((keys, np.empty(cap - size)))
