@@ -59,3 +59,19 @@ def test_reference_plans_of_every_task_have_no_gaps(task: str) -> None:
     """The checklist never sends a correct plan of a benchmark template back."""
     for instruction, code in reference_plans(task):
         assert clause_gaps(instruction, planned_subtasks(code) or []) == [], instruction
+
+
+def test_one_pattern_tells_the_hands_motions_from_other_sub_tasks() -> None:
+    import re
+
+    from voxposer.lmp.checklist import HAND_MOTION_START
+
+    motion = re.compile(HAND_MOTION_START, re.I)
+    for said in ("move to the back side of the table", "then go to the left of the red block",
+                 "steer the hand to the right side", "make your way to the front side",
+                 "bring the gripper to the top of the blue block", "take your hand to the corner",
+                 "reach the back left corner", "first navigate to the right side"):
+        assert motion.match(said), said
+    for said in ("push the blue block to the back", "grasp the red block",
+                 "bring the blue block to the corner", "open the top drawer", "movement"):
+        assert not motion.match(said), said

@@ -95,3 +95,19 @@ def test_the_pipeline_carries_it_then_derives_no_second_condition() -> None:
     off = complete_plan("x", code, LMPConfig(carry_stated_constraints=False,
                                              derived_conditions=False), OBJECTS, lambda **e: None)
     assert off == code
+
+
+def test_a_motion_said_with_another_verb_gets_the_speed_of_its_post_condition() -> None:
+    """Dev record (ad-hoc seed 28, an extra dev phrasing): "steer the hand to …, with faster
+    speed above the right side of the table" planned as a motion without the speed and a
+    ``speed(…, inside=…)`` post-condition."""
+    said = ("steer the hand to the front right corner of the table, with faster speed above the "
+            "right side of the table")
+    code = ("composer('steer the hand to the front right corner of the table')\n"
+            "expect(speed('gripper', 2, inside='right side'))")
+    new, _ = carry_stated_constraints(said, code, OBJECTS) or ("", [])
+    assert new.splitlines()[0] == ("composer('steer the hand to the front right corner of the "
+                                   "table at faster speed in the right side of the table')")
+    carried = "composer('bring the blue block to the back side of the table')\n" \
+              "expect(away('gripper', 'red block'))"
+    assert carry_stated_constraints("x", carried, OBJECTS) is None  # the block, not the hand

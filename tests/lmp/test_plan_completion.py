@@ -147,6 +147,24 @@ STAY_OBJECTS = ("table", "gripper", "yellow block", "brown block", "blue block")
      "composer('move to the back side of the table')",
      "composer('move to the back side of the table while staying at least 7cm from the blue "
      "block')"),
+    # dev records, extra dev phrasings (ad-hoc seeds 27, 28, 30): "don't leave", "keeping it
+    # on", a motion said with "steer", a "go to the … of the table" before the clause, and a
+    # hover above the object in place of the clause
+    ("move over to the right side of the table and don't leave the top of the blue block",
+     "composer('move to the right side of the table')\n"
+     "composer('move to a point 10cm above the top of the blue block')",
+     "composer('move to the right side of the table while staying on the top of the blue "
+     "block')"),
+    ("steer the hand to the right side of the table, keeping it on the left of the brown block",
+     "composer('steer the hand to the right side of the table')",
+     "composer('steer the hand to the right side of the table while staying on the left of the "
+     "brown block')"),
+    ("can you go to the back side of the table? stay on the front side of the yellow block as "
+     "you do",
+     "composer('move to the back side of the table')\n"
+     "composer('move to the front side of the yellow block')",
+     "composer('move to the back side of the table while staying on the front side of the "
+     "yellow block')"),
 ])
 def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, plan: str,
                                                             expected: str) -> None:

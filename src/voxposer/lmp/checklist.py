@@ -48,8 +48,15 @@ MOVE_AWAY: Final = re.compile(
 #: begin with the pushed object's name.
 PUSH_SUBTASK: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:push|slide|nudge|shove|"
                                  r"pushing|sliding)\s+(?:the\s+)?(?P<words>[a-z ]+)", re.I)
+#: how a sub-task that moves the hand begins (after "then", "and" or "first"): a verb of motion,
+#: or a verb whose object is the hand ("bring the gripper to …"); one pattern for every plan
+#: completion that looks for the hand's motions.
+HAND_MOTION_START: Final = (
+    r"^\s*(?:then\s+|and\s+|first\s+)?(?:move|go|get|head|travel|reach|navigate|steer|return|"
+    r"proceed|make\s+your\s+way|(?:bring|take|guide|position)\s+(?:the\s+|your\s+)?"
+    r"(?:hand|gripper|end[\s-]effector|arm))\b")
 #: a table part a speed applies in, said in words: (part).
-REGION_SAID: Final = re.compile(r"\b(?:in|inside|over|across|through|within)\s+the\s+"
+REGION_SAID: Final = re.compile(r"\b(?:in|inside|over|above|across|through|within)\s+the\s+"
                             r"((?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge))\s+of\s+the\s+table")
 #: the zone around an object a speed applies in: (cm, object words).
 NEAR_SAID: Final = re.compile(r"\b(?:within|closer\s+than|inside)\s+(\d+(?:\.\d+)?)\s*(?:cm|centimet"

@@ -19,15 +19,13 @@ from __future__ import annotations
 import re
 from typing import Final
 
-from voxposer.lmp.checklist import PUSH_SUBTASK
+from voxposer.lmp.checklist import HAND_MOTION_START, PUSH_SUBTASK
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.unasked import avoided_objects, to_avoided
 
 #: a sub-task that moves the hand to somewhere (not the default pose, a grasp or a release).
-_TO_PLACE: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?"
-                              r"(?:move|go|get|head|travel|reach|navigate)\b"
-                              r"(?!.*\b(?:default|grasp|release|drop)\b).*\b(?:to|above|over)\b",
-                              re.I)
+_TO_PLACE: Final = re.compile(
+    HAND_MOTION_START + r"(?!.*\b(?:default|grasp|release|drop)\b).*\b(?:to|above|over)\b", re.I)
 
 
 def _with_avoidance(subtask: str, avoided: str) -> str:

@@ -35,14 +35,20 @@ import ast
 import re
 from typing import Final
 
-from voxposer.lmp.checklist import NEAR_SAID, PUSH_SUBTASK, REGION_SAID, SPEED_WORDS
+from voxposer.lmp.checklist import (
+    HAND_MOTION_START,
+    NEAR_SAID,
+    PUSH_SUBTASK,
+    REGION_SAID,
+    SPEED_WORDS,
+)
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import speed_factor, speed_span
 from voxposer.perception.names import is_end_effector, leading_name
 
 #: a sub-task that moves the hand to a place (not a grasp, push or release).
-_HAND_MOTION: Final = re.compile(r"^\s*(?:then\s+|and\s+|first\s+)?(?:move|go|get|head|travel"
-                                 r"|return)\b(?!.*\b(?:push|grasp|pick|drop|release)\b)", re.I)
+_HAND_MOTION: Final = re.compile(
+    HAND_MOTION_START + r"(?!.*\b(?:push|grasp|pick|drop|release)\b)", re.I)
 
 #: the speed words of the planner's examples for the factors they use.
 _NAMED_SCALES: Final = {2.0: "faster speed", 0.5: "half of the speed",

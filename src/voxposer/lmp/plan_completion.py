@@ -37,6 +37,7 @@ from __future__ import annotations
 import re
 from typing import Final
 
+from voxposer.lmp.checklist import HAND_MOTION_START
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.perception.names import is_end_effector, leading_name
 
@@ -55,8 +56,8 @@ CARRY_CM: Final = 9
 #: after "of the", which begin with the object's name).
 STAY_ON: Final = re.compile(
     r"\b(?:(?:stay|staying|stays|keep|keeping|remain|remaining|pass|passing|going|go)"
-    r"(?:\s+(?:yourself|itself|the\s+(?:gripper|hand)))?\s+(?:on|over|at|along|to|by)"
-    r"|(?:never|not|without)\s+leav(?:e|es|ing))\s+"
+    r"(?:\s+(?:yourself|itself|it|the\s+(?:gripper|hand)))?\s+(?:on|over|at|along|to|by)"
+    r"|(?:never|not|without|don't|do\s+not)\s+leav(?:e|es|ing))\s+"
     r"the\s+(top|bottom|(?:front|back|left|right|near|far)"
     r"(?:\s+side)?)\s+of\s+the\s+([a-z ]+)")
 #: "keep 11cm clear of the blue block", "staying at least 5 cm away from the …" in an
@@ -70,7 +71,7 @@ _KEEPS_AWAY: Final = re.compile(r"\b(?:at\s+least|clear\s+of|away\s+from|avoid|a
 #: a sub-task that takes the hand to a place.
 _HAND_TO: Final = re.compile(r"^\s*(?:then\s+)?(?:move|go|head|travel)\s+(?:over\s+)?(?:to|towards?)\b")
 #: a sub-task that moves the hand somewhere.
-_MOTION: Final = re.compile(r"^\s*(?:move|go|head|travel|bring|take|reach|get|navigate)\b", re.I)
+_MOTION: Final = re.compile(HAND_MOTION_START, re.I)
 #: words of things fixed to the scene: grasped to pull or turn them, never to lift.
 _FIXED_PARTS: Final = re.compile(
     r"\b(?:handle|drawer|door|window|fridge|cabinet|knob|lever|lid|latch)s?\b", re.I)
@@ -135,10 +136,14 @@ def _clause(instruction: str, objects: tuple[str, ...] | list[str]
         obj = leading_name(said, objects)
         return None if obj is None or obj.lower() == "table" else obj.lower()
 
-    if (stay := STAY_ON.search(text)) and (obj := named(stay.group(2))):
-        side = stay.group(1)
-        return (obj, f"while staying on the {side} of the {obj}", STAY_ON,
-                re.compile(rf"^(?:move|go)\s+to\s+the\s+{side}(?:\s+side)?\s+of\s+the\s+{obj}$"))
+    # the first "staying on the <side> of the <object>" about an object: "go to the back side
+    # of the table" reads the same way and comes first in "go to …? stay on the … of the …"
+    for stay in STAY_ON.finditer(text):
+        if obj := named(stay.group(2)):
+            side = stay.group(1)
+            return (obj, f"while staying on the {side} of the {obj}", STAY_ON,
+                    re.compile(rf"^(?:move|go)\s+to\s+(?:a\s+point\s+[\d.]+\s*cm\s+above\s+)?"
+                               rf"the\s+{side}(?:\s+side)?\s+of\s+the\s+{obj}$"))
     if (away := _KEEP_AWAY.search(text)) and (obj := named(away.group("obj"))):
         cm = away.group("cm")
         return (obj, f"while staying at least {cm}cm from the {obj}", _KEEPS_AWAY,

@@ -25,6 +25,7 @@ from voxposer.lmp.plan_completion import (
 )
 from voxposer.lmp.plan_conditions import derive_conditions, keep_instruction_speed
 from voxposer.lmp.plan_places import named_places_only
+from voxposer.lmp.plan_zone import zone_not_destination
 from voxposer.lmp.registry import LMPConfig
 
 #: (instruction, code, object names) → (new code, what changed in words) or None.
@@ -63,6 +64,9 @@ STEPS: Final[tuple[Step, ...]] = (
          "added", "a sub-task went to the object the instruction only asks to keep away from"),
     Step("named_places_only", _fixed("the instruction's one table place", named_places_only),
          "added", "a sub-task went to a table place the instruction does not name"),
+    Step("zone_not_destination", _fixed("the speed in the zone, said in the motion to the place",
+                                        zone_not_destination),
+         "added", "a sub-task went to the table part the instruction says a speed in"),
     Step("carry_stated_constraints", lambda q, c, n: _listed(carry_stated_constraints(q, c, n)),
          "added", "a post-condition kept a distance or speed the sub-task's words did not"),
     Step("hover_over", _fixed("the hover as the hand's motion", hover_over),

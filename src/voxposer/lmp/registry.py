@@ -101,6 +101,9 @@ class LMPConfig:
         named_places_only: a sub-task's table place the instruction does not name becomes the
             one it names, and a motion then said twice is said once
             (:func:`~voxposer.lmp.plan_places.named_places_only`).
+        zone_not_destination: a motion to the table part the instruction says a speed in is
+            dropped and the speed said in the motion to its place
+            (:func:`~voxposer.lmp.plan_zone.zone_not_destination`).
         push_along_ends: a one-sub-task push of a block along a line becomes the examples'
             pushes to the line's near end, then its far end
             (:func:`~voxposer.lmp.plan_along.push_along_ends`).
@@ -161,6 +164,7 @@ class LMPConfig:
     carry_stated_constraints: bool = True
     fold_avoided: bool = True
     named_places_only: bool = True
+    zone_not_destination: bool = True
     push_along_ends: bool = True
     drop_final_reset: bool = True
     hover_over: bool = True
