@@ -42,7 +42,8 @@ def add_bench_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tasks", default="all",
                    help=f"comma-separated task names of the suite or 'all' (tasks: "
                    f"{', '.join(TASKS)}; {MULTISTEP_SUITE} entries: {', '.join(ENTRIES)})")
-    p.add_argument("--splits", default="seen,unseen", help="seen, unseen or both")
+    p.add_argument("--splits", default="seen,unseen",
+                   help="comma-separated attribute splits: seen, unseen (default: both)")
     p.add_argument("--episodes", type=int, default=20, help="episodes per task and split")
     p.add_argument("--seeds", default=None,
                    help="seed set: " + ", ".join(f"{s.name} ({s.first}-{s.last})"
