@@ -6,7 +6,7 @@ run of (−1, +1, +1) moves turns the path 45° away from its heading, and the w
 pass several centimetres beside the straight way (dev records, "staying on the top of": the
 hand passed 2.3 cm beside the block it was to pass over, 10 cm above it, on a path the search
 found optimal). :func:`shortcut` replaces runs of the path by the straight segment between
-their ends when that segment crosses no obstacle voxel and its cost, measured on the same cost
+their ends when that segment keeps clear of obstacles and its cost, measured on the same cost
 map the same way, is no more than the run's: the shortened path never costs more than the one
 found. A segment must keep the clearance the search's moves keep: a cube one voxel wide swept
 along it touches no obstacle voxel (a path through voxel centres keeps half a voxel from every
@@ -36,8 +36,9 @@ def shortcut(
 
     From each kept vertex the farthest later vertex reachable by a straight segment is kept
     next: one along which a voxel-wide cube touches no obstacle voxel (the first vertex's own
-    voxel aside: a start may sit in one) and that costs no more than the path between them. Costs follow the search's: each sample
-    step of length ``ds`` [voxels] pays ``ds * (length_weight + cost)`` at the sample's voxel.
+    voxel aside: a start may sit in one) and that costs no more than the path between them.
+    Costs follow the search's: each sample step of length ``ds`` [voxels] pays
+    ``ds * (length_weight + cost)`` at the sample's voxel.
 
     Args:
         points: the path's vertices [m], shape (N, 3), first the start, last the target.
