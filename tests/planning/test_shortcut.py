@@ -1,5 +1,7 @@
 """The found path is straightened only where a straight segment is free and costs no more."""
 
+import itertools
+
 import numpy as np
 
 from voxposer.planning import PathPlanner, PlannerConfig
@@ -32,7 +34,7 @@ def test_no_segment_crosses_an_obstacle_or_a_costlier_band() -> None:
             (5, 8, 0), (6, 8, 0), (6, 7, 0), (6, 6, 0), (6, 5, 0), (6, 4, 0), (7, 3, 0), (8, 2, 0)]
     out = shortcut(_centres(path), GRID, np.zeros(GRID.shape), blocked, 0.1)
     assert len(out) < len(path)
-    dense = np.concatenate([np.linspace(a, b, 500) for a, b in zip(out[:-1], out[1:])])
+    dense = np.concatenate([np.linspace(a, b, 500) for a, b in itertools.pairwise(out)])
     idx = GRID.world_to_voxel(dense, clip=True)
     assert not blocked[idx[:, 0], idx[:, 1], idx[:, 2]].any()
     # the same detour around a costly (not blocked) band stays: a straight cut costs more
