@@ -42,7 +42,7 @@ from voxposer.lmp.checklist import (
     REGION_SAID,
     SPEED_WORDS,
 )
-from voxposer.lmp.plan_review import plain_steps
+from voxposer.lmp.plan_review import expect_calls, plain_steps
 from voxposer.lmp.speed_words import speed_factor, speed_span
 from voxposer.perception.names import is_end_effector, leading_name
 
@@ -53,21 +53,6 @@ _HAND_MOTION: Final = re.compile(
 #: the speed words of the planner's examples for the factors they use.
 _NAMED_SCALES: Final = {2.0: "faster speed", 0.5: "half of the speed",
                         0.25: "a quarter of the speed"}
-
-
-def _call(source: str) -> ast.Call | None:
-    try:
-        node = ast.parse(source).body[0].value  # type: ignore[attr-defined]
-    except (SyntaxError, IndexError, AttributeError):
-        return None
-    return node if isinstance(node, ast.Call) else None
-
-
-def _conditions(line: str) -> list[ast.Call]:
-    """The helper calls inside one ``expect(...)`` line."""
-    call = _call(line)
-    return [a for a in (call.args if call else []) if isinstance(a, ast.Call)
-            and isinstance(a.func, ast.Name)]
 
 
 def _string(node: ast.expr | None) -> str | None:
@@ -162,7 +147,7 @@ def carry_stated_constraints(instruction: str, code: str, objects: tuple[str, ..
         pushed = leading_name(push.group("words").lower(), names) if push else None
         if _HAND_MOTION.match(subtask) or pushed is not None:
             added: list[str] = []
-            for cond in (c for e in expects for c in _conditions(e)):
+            for cond in (c for e in expects for c in expect_calls(e)):
                 helper = cond.func.id  # type: ignore[attr-defined]
                 words = (_away_words(cond, subtask, names, pushed) if helper == "away" else
                          _speed_words(cond, subtask, instruction, names)

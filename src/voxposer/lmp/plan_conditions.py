@@ -48,7 +48,7 @@ from typing import Final, NamedTuple
 
 from voxposer.lmp.checklist import AVOID_WORDS, MOVE_AWAY, NEAR_SAID, PUSH_SUBTASK, REGION_SAID
 from voxposer.lmp.plan_completion import STAY_ON
-from voxposer.lmp.plan_review import plain_steps
+from voxposer.lmp.plan_review import expect_calls, plain_steps
 from voxposer.lmp.speed_words import same_direction, speed_factor, speed_span
 from voxposer.perception.names import is_end_effector, leading_name
 
@@ -80,18 +80,11 @@ class Stated(NamedTuple):
 
 def _stated(line: str) -> list[Stated]:
     """The conditions of one ``expect(...)`` line (none when it does not parse)."""
-    try:
-        call = ast.parse(line).body[0].value  # type: ignore[attr-defined]
-    except (SyntaxError, IndexError, AttributeError):
-        return []
-    out = []
-    for arg in getattr(call, "args", []):
-        if isinstance(arg, ast.Call) and isinstance(arg.func, ast.Name):
-            args = tuple(a.value.lower() if isinstance(a, ast.Constant)
-                         and isinstance(a.value, str) else "" for a in arg.args)
-            out.append(Stated(arg.func.id, args, frozenset(k.arg for k in arg.keywords if k.arg),
-                              ast.get_source_segment(line, arg) or ""))
-    return out
+    return [Stated(call.func.id,  # type: ignore[attr-defined]
+                   tuple(a.value.lower() if isinstance(a, ast.Constant) and isinstance(a.value, str)
+                         else "" for a in call.args),
+                   frozenset(k.arg for k in call.keywords if k.arg),
+                   ast.get_source_segment(line, call) or "") for call in expect_calls(line)]
 
 
 def _object(words: str, objects: tuple[str, ...]) -> str | None:

@@ -48,6 +48,17 @@ def plain_steps(code: str) -> list[tuple[str, str, list[str]]] | None:
     return steps
 
 
+def expect_calls(line: str) -> list[ast.Call]:
+    """The helper calls inside one ``expect(...)`` line, e.g. ``on('gripper', 'table')``
+    (none when the line does not parse as one call)."""
+    try:
+        call = ast.parse(line).body[0].value  # type: ignore[attr-defined]
+    except (SyntaxError, IndexError, AttributeError):
+        return []
+    return [a for a in getattr(call, "args", []) if isinstance(a, ast.Call)
+            and isinstance(a.func, ast.Name)]
+
+
 def graft_conditions(plan: str, correction: str) -> str | None:
     """``plan``'s sub-tasks, in its order, each followed by the ``expect`` lines the
     ``correction`` states after the same sub-task (the plan's own where the correction has no
