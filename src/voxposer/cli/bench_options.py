@@ -43,7 +43,8 @@ def add_bench_options(p: argparse.ArgumentParser) -> None:
                    help=f"comma-separated task names of the suite or 'all' (tasks: "
                    f"{', '.join(TASKS)}; {MULTISTEP_SUITE} entries: {', '.join(ENTRIES)})")
     p.add_argument("--splits", default="seen,unseen",
-                   help="comma-separated attribute splits: seen, unseen (default: both)")
+                   help="attribute splits: seen, unseen, both, or a comma-separated list "
+                   "(default: both)")
     p.add_argument("--episodes", type=int, default=20, help="episodes per task and split")
     p.add_argument("--seeds", default=None,
                    help="seed set: " + ", ".join(f"{s.name} ({s.first}-{s.last})"
@@ -165,7 +166,8 @@ def bench_config(args: argparse.Namespace) -> BenchConfig:
     kwargs: dict[str, Any] = {}
     if args.workers is not None:
         kwargs["workers"] = args.workers
-    return BenchConfig(tasks=tasks, splits=_names(args.splits, "--splits", SPLITS),
+    splits = SPLITS if args.splits.strip() == "both" else _names(args.splits, "--splits", SPLITS)
+    return BenchConfig(tasks=tasks, splits=splits,
                        episodes=args.episodes, seeds=args.seeds, seed=args.seed,
                        method=args.method, instructions=args.instructions,
                        llm=args.llm or (NO_LLM if args.method == UNET_MP else "default"),
