@@ -75,3 +75,14 @@ def test_one_pattern_tells_the_hands_motions_from_other_sub_tasks() -> None:
     for said in ("push the blue block to the back", "grasp the red block",
                  "bring the blue block to the corner", "open the top drawer", "movement"):
         assert not motion.match(said), said
+
+
+def test_a_speed_zone_is_read_over_in_or_above_a_table_part() -> None:
+    from voxposer.lmp.checklist import REGION_SAID
+
+    for said, part in (("with faster speed above the right side of the table", "right side"),
+                       ("go slowly over the back left corner of the table", "back left corner"),
+                       ("at 3x speed in the left half of the table", "left half")):
+        found = REGION_SAID.search(said)
+        assert found is not None and found.group(1) == part, said
+    assert REGION_SAID.search("go to the right side of the table") is None  # a place, not a zone
