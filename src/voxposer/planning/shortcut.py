@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.planning.search_kernel import near_blocked
 
 #: Samples per voxel along a segment when its cost and obstacles are read.
 SAMPLES_PER_VOXEL = 2
@@ -53,13 +54,14 @@ def shortcut(
     # work in voxel coordinates: a voxel's index is the floor of the point's coordinate
     vox = (np.asarray(points, dtype=np.float64) - grid.bounds_min) / grid.resolution
     limit = np.asarray(grid.shape) - 1
-    along = np.concatenate([[0.0], np.cumsum(_prices(vox[:-1], vox[1:], cost, obstacles,
+    near = near_blocked(np.asarray(obstacles, dtype=bool))
+    along = np.concatenate([[0.0], np.cumsum(_prices(vox[:-1], vox[1:], cost, obstacles, near,
                                                      length_weight, limit)[0])])
     kept, i = [0], 0
     while i < n - 1:
         ends = np.arange(i + 1, n)
         price, blocked = _prices(np.repeat(vox[i:i + 1], len(ends), axis=0), vox[ends], cost,
-                                 obstacles, length_weight, limit)
+                                 obstacles, near, length_weight, limit)
         fine = ~blocked & (price <= along[ends] - along[i] + 1e-9)
         fine[0] = True  # the path's own next vertex
         i = int(ends[np.flatnonzero(fine)[-1]])
@@ -68,25 +70,30 @@ def shortcut(
 
 
 def _prices(a: NDArray[np.float64], b: NDArray[np.float64], cost: NDArray[np.floating],
-            obstacles: NDArray[np.bool_], length_weight: float, limit: NDArray[np.int64]
-            ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+            obstacles: NDArray[np.bool_], near: NDArray[np.bool_], length_weight: float,
+            limit: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """For K straight segments a → b (voxel coordinates, shapes (K, 3)): their costs, shape
     (K,), and whether a voxel-sized cube swept along each touches an obstacle voxel other than
     its first point's, shape (K,). Read every 1 / ``SAMPLES_PER_VOXEL`` voxel; the cube's
-    corners find every voxel it touches, and cubes half a voxel apart cover the swept volume."""
+    corners find every voxel it touches, and cubes half a voxel apart cover the swept volume.
+    Only samples in a voxel ``near`` an obstacle (one of its 26 neighbours or itself blocked)
+    can touch one, so only their corners are read."""
     length = np.linalg.norm(b - a, axis=1)  # [voxels]
     steps = np.maximum(np.ceil(length * SAMPLES_PER_VOXEL).astype(np.int64), 1)
     t = np.arange(1, int(steps.max()) + 1)[None, :] / steps[:, None]  # (K, S)
     valid = t <= 1.0 + 1e-12
     samples = a[:, None, :] + np.minimum(t, 1.0)[..., None] * (b - a)[:, None, :]
-    first = np.clip(np.floor(a).astype(np.int64), 0, limit)[:, None, None, :]
-    corners = np.clip(np.floor(samples[:, :, None, :] + _CORNERS).astype(np.int64), 0, limit)
-    hit = obstacles[corners[..., 0], corners[..., 1], corners[..., 2]] \
-        & np.any(corners != first, axis=3)
-    blocked = np.any(np.any(hit, axis=2) & valid, axis=1)
     idx = np.clip(np.floor(samples).astype(np.int64), 0, limit)
     at = (idx[..., 0], idx[..., 1], idx[..., 2])
     price = np.sum(np.where(valid, length_weight + cost[at], 0.0), axis=1) * length / steps
+    seg, col = np.nonzero(valid & near[at])  # the samples whose cube may touch an obstacle
+    first = np.clip(np.floor(a).astype(np.int64), 0, limit)[seg][:, None, :]
+    corners = np.clip(np.floor(samples[seg, col][:, None, :] + _CORNERS).astype(np.int64),
+                      0, limit)
+    hit = np.any(obstacles[corners[..., 0], corners[..., 1], corners[..., 2]]
+                 & np.any(corners != first, axis=2), axis=1)
+    blocked = np.zeros(len(a), dtype=bool)
+    blocked[seg[hit]] = True
     return price, blocked
 
 
