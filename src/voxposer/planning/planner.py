@@ -255,7 +255,8 @@ class PathPlanner:
         raw = np.vstack([cmap.start, centres[1:-1], end]) if len(path) > 1 else \
             np.vstack([cmap.start, end])
         if cfg.shortcut and cfg.method == "global":
-            straight = shortcut(raw, cmap.grid, cmap.cost, cmap.obstacles, cfg.length_weight)
+            straight = shortcut(raw, cmap.grid, cmap.cost, cmap.obstacles, cfg.length_weight,
+                                cmap.avoidance_cost)
             if not collides(straight, self.grid, cmap.fine_obstacles):
                 raw = straight
         raw = resample(raw, cfg.waypoint_spacing_m)

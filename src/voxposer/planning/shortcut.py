@@ -32,6 +32,7 @@ def shortcut(
     cost: NDArray[np.floating],
     obstacles: NDArray[np.bool_],
     length_weight: float,
+    avoidance: NDArray[np.floating] | None = None,
 ) -> NDArray[np.float64]:
     """The vertices of ``points`` kept by greedy shortening (module docs), shape (M, 3), M <= N.
 
@@ -47,6 +48,10 @@ def shortcut(
         cost: per-voxel cost, shape ``grid.shape``.
         obstacles: voxels no segment may enter, shape ``grid.shape``.
         length_weight: cost per voxel of length (the search's).
+        avoidance: the cost's avoidance term, shape ``grid.shape``, or None: given, a segment
+            is kept only where it comes no nearer what is avoided than the run it replaces
+            (its largest avoidance value at most the run's): an equal total cost may otherwise
+            be a shorter way closer to the avoided object.
     """
     n = len(points)
     if n <= 2:
@@ -55,14 +60,17 @@ def shortcut(
     vox = (np.asarray(points, dtype=np.float64) - grid.bounds_min) / grid.resolution
     limit = np.asarray(grid.shape) - 1
     near = near_blocked(np.asarray(obstacles, dtype=bool))
-    along = np.concatenate([[0.0], np.cumsum(_prices(vox[:-1], vox[1:], cost, obstacles, near,
-                                                     length_weight, limit)[0])])
+    avoid = np.zeros(grid.shape, np.float32) if avoidance is None else avoidance
+    price, _, worst = _prices(vox[:-1], vox[1:], cost, obstacles, near, avoid, length_weight,
+                              limit)
+    along = np.concatenate([[0.0], np.cumsum(price)])
     kept, i = [0], 0
     while i < n - 1:
         ends = np.arange(i + 1, n)
-        price, blocked = _prices(np.repeat(vox[i:i + 1], len(ends), axis=0), vox[ends], cost,
-                                 obstacles, near, length_weight, limit)
-        fine = ~blocked & (price <= along[ends] - along[i] + 1e-9)
+        price, blocked, nearest = _prices(np.repeat(vox[i:i + 1], len(ends), axis=0), vox[ends],
+                                          cost, obstacles, near, avoid, length_weight, limit)
+        fine = ~blocked & (price <= along[ends] - along[i] + 1e-9) \
+            & (nearest <= np.maximum.accumulate(worst[i:]) + 1e-9)
         fine[0] = True  # the path's own next vertex
         i = int(ends[np.flatnonzero(fine)[-1]])
         kept.append(i)
@@ -70,11 +78,12 @@ def shortcut(
 
 
 def _prices(a: NDArray[np.float64], b: NDArray[np.float64], cost: NDArray[np.floating],
-            obstacles: NDArray[np.bool_], near: NDArray[np.bool_], length_weight: float,
-            limit: NDArray[np.int64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+            obstacles: NDArray[np.bool_], near: NDArray[np.bool_], avoid: NDArray[np.floating],
+            length_weight: float, limit: NDArray[np.int64]
+            ) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
     """For K straight segments a → b (voxel coordinates, shapes (K, 3)): their costs, shape
-    (K,), and whether a voxel-sized cube swept along each touches an obstacle voxel other than
-    its first point's, shape (K,). Read every 1 / ``SAMPLES_PER_VOXEL`` voxel; the cube's
+    (K,), whether a voxel-sized cube swept along each touches an obstacle voxel other than
+    its first point's, shape (K,), and the largest ``avoid`` value each passes, shape (K,). Read every 1 / ``SAMPLES_PER_VOXEL`` voxel; the cube's
     corners find every voxel it touches, and cubes half a voxel apart cover the swept volume.
     Only samples in a voxel ``near`` an obstacle (one of its 26 neighbours or itself blocked)
     can touch one, so only their corners are read."""
@@ -86,6 +95,7 @@ def _prices(a: NDArray[np.float64], b: NDArray[np.float64], cost: NDArray[np.flo
     idx = np.clip(np.floor(samples).astype(np.int64), 0, limit)
     at = (idx[..., 0], idx[..., 1], idx[..., 2])
     price = np.sum(np.where(valid, length_weight + cost[at], 0.0), axis=1) * length / steps
+    nearest = np.max(np.where(valid, avoid[at], 0.0), axis=1)
     seg, col = np.nonzero(valid & near[at])  # the samples whose cube may touch an obstacle
     first = np.clip(np.floor(a).astype(np.int64), 0, limit)[seg][:, None, :]
     corners = np.clip(np.floor(samples[seg, col][:, None, :] + _CORNERS).astype(np.int64),
@@ -94,7 +104,7 @@ def _prices(a: NDArray[np.float64], b: NDArray[np.float64], cost: NDArray[np.flo
                  & np.any(corners != first, axis=2), axis=1)
     blocked = np.zeros(len(a), dtype=bool)
     blocked[seg[hit]] = True
-    return price, blocked
+    return price, blocked, nearest
 
 
 #: The corners of a cube a hair smaller than a voxel around a point (voxel units), shape (8, 3):
