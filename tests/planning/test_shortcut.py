@@ -59,3 +59,21 @@ def test_a_climbing_plan_keeps_to_the_straight_way() -> None:
         assert np.linalg.norm(plan.target - grid.voxel_to_world(grid.world_to_voxel(target))) < 1e-9
     assert off[False] > 0.03
     assert off[True] < 0.015
+
+
+def test_given_the_avoidance_a_segment_comes_no_nearer_the_avoided_object() -> None:
+    """A faint avoidance cost: cutting straight through it costs less than the detour, so the
+    plain shortening takes the cut; told the avoidance term, it keeps the detour's distance."""
+    path = [(2, 2, 0), (3, 3, 0), (4, 4, 0), (4, 5, 0), (4, 6, 0), (4, 7, 0), (4, 8, 0),
+            (5, 8, 0), (6, 8, 0), (6, 7, 0), (6, 6, 0), (6, 5, 0), (6, 4, 0), (7, 3, 0), (8, 2, 0)]
+    avoid = np.zeros(GRID.shape)
+    avoid[5, 2:8, :] = 1.0  # what the detour keeps away from
+    cost = 0.01 * avoid
+    free = np.zeros(GRID.shape, bool)
+    cut = shortcut(_centres(path), GRID, cost, free, 0.1)
+    kept = shortcut(_centres(path), GRID, cost, free, 0.1, avoid)
+    assert max(GRID.world_to_voxel(cut)[:, 1]) < 8  # straight through the faint cost
+    dense = np.concatenate([np.linspace(a, b, 500) for a, b in itertools.pairwise(kept)])
+    idx = GRID.world_to_voxel(dense, clip=True)
+    assert avoid[idx[:, 0], idx[:, 1], idx[:, 2]].max() == 0.0  # never entered
+    assert len(kept) < len(path)  # yet straightened where it could
