@@ -256,7 +256,7 @@ class PathPlanner:
             np.vstack([cmap.start, end])
         if cfg.shortcut and cfg.method == "global":
             straight = shortcut(raw, cmap.grid, cmap.cost, cmap.obstacles, cfg.length_weight,
-                                cmap.avoidance_cost)
+                                cmap.avoidance_cost if cfg.shortcut_keeps_distance else None)
             if not collides(straight, self.grid, cmap.fine_obstacles):
                 raw = straight
         raw = resample(raw, cfg.waypoint_spacing_m)

@@ -36,6 +36,10 @@ class PlannerConfig:
             tilts it.
         shortcut: straighten the found path where a straight segment costs no more
             (:mod:`voxposer.planning.shortcut`; global method only).
+        shortcut_keeps_distance: a straightened segment also comes no nearer what the
+            avoidance map avoids than the run it replaces (off until measured on the whole
+            test suite and with the default model; dev records
+            ``benchmarks/results/dev-2026-12-07/``).
     """
 
     method: PlanMethod = "global"
@@ -49,6 +53,7 @@ class PlannerConfig:
     grasp_approach_m: float = 0.06
     grasp_approach_radius_m: float = 0.06
     shortcut: bool = True
+    shortcut_keeps_distance: bool = False
 
     def __post_init__(self) -> None:
         if self.method not in ("global", "greedy"):
