@@ -55,6 +55,8 @@ HAND_MOTION_START: Final = (
     r"^\s*(?:then\s+|and\s+|first\s+)?(?:move|go|get|head|travel|reach|navigate|steer|return|"
     r"proceed|make\s+your\s+way|(?:bring|take|guide|position)\s+(?:the\s+|your\s+)?"
     r"(?:hand|gripper|end[\s-]effector|arm))\b")
+#: :data:`HAND_MOTION_START` compiled, case-insensitive.
+HAND_MOTION: Final = re.compile(HAND_MOTION_START, re.I)
 #: a table part a speed applies in, said in words: (part).
 REGION_SAID: Final = re.compile(r"\b(?:in|inside|over|above|across|through|within)\s+the\s+"
                             r"((?:[a-z]+\s+){0,2}(?:side|corner|half|part|edge))\s+of\s+the\s+table")
@@ -105,6 +107,11 @@ def planned_subtasks(code: str) -> list[str] | None:
 
 def _words(text: str) -> set[str]:
     return set(re.findall(r"[a-z]+", normalize_name(text)))
+
+
+def says_speed(text: str) -> bool:
+    """Whether ``text`` (a sub-task's words) says a speed: one of :data:`SPEED_WORDS`."""
+    return bool(set(re.findall(r"[a-z]+", text.lower())) & SPEED_WORDS)
 
 
 def _numbers(text: str) -> set[float]:

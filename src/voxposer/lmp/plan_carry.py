@@ -40,7 +40,7 @@ from voxposer.lmp.checklist import (
     NEAR_SAID,
     PUSH_SUBTASK,
     REGION_SAID,
-    SPEED_WORDS,
+    says_speed,
 )
 from voxposer.lmp.plan_review import expect_calls, plain_steps
 from voxposer.lmp.speed_words import speed_factor, speed_span
@@ -73,10 +73,6 @@ def _keyword(call: ast.Call, name: str, position: int | None = None) -> ast.expr
     return call.args[position] if position is not None and len(call.args) > position else None
 
 
-def _words(text: str) -> set[str]:
-    return set(re.findall(r"[a-z]+", text.lower()))
-
-
 def _away_words(call: ast.Call, subtask: str, objects: tuple[str, ...],
                 pushed: str | None) -> str | None:
     """The words an ``away(<what moves>, <object>[, cm])`` condition asks of ``subtask`` (what
@@ -104,7 +100,7 @@ def _speed_words(call: ast.Call, subtask: str, instruction: str,
     the right side of the table"), when it says one."""
     what, scale = _string(_keyword(call, "obj", 0)), _number(_keyword(call, "scale", 1))
     if what is None or scale is None or scale <= 0 or not is_end_effector(what) \
-            or _words(subtask) & SPEED_WORDS:
+            or says_speed(subtask):
         return None
     near, inside = _string(_keyword(call, "near")), _string(_keyword(call, "inside"))
     inside = inside or _string(_keyword(call, "side"))

@@ -37,7 +37,7 @@ from __future__ import annotations
 import re
 from typing import Final
 
-from voxposer.lmp.checklist import HAND_MOTION_START
+from voxposer.lmp.checklist import HAND_MOTION
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.perception.names import is_end_effector, leading_name
 
@@ -70,8 +70,6 @@ _KEEP_AWAY: Final = re.compile(
 _KEEPS_AWAY: Final = re.compile(r"\b(?:at\s+least|clear\s+of|away\s+from|avoid|avoiding)\b")
 #: a sub-task that takes the hand to a place.
 _HAND_TO: Final = re.compile(r"^\s*(?:then\s+)?(?:move|go|head|travel)\s+(?:over\s+)?(?:to|towards?)\b")
-#: a sub-task that moves the hand somewhere.
-_MOTION: Final = re.compile(HAND_MOTION_START, re.I)
 #: words of things fixed to the scene: grasped to pull or turn them, never to lift.
 _FIXED_PARTS: Final = re.compile(
     r"\b(?:handle|drawer|door|window|fridge|cabinet|knob|lever|lid|latch)s?\b", re.I)
@@ -166,7 +164,8 @@ def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[s
     if any(carried.search(s.lower()) and obj in s.lower() for s, _, _ in steps):
         return None
     kept = [st for st in steps if not instead.match(" ".join(st[0].lower().split()))]
-    motions = [i for i, (s, _, _) in enumerate(kept) if _MOTION.match(s) and obj not in s.lower()]
+    motions = [i for i, (s, _, _) in enumerate(kept)
+               if HAND_MOTION.match(s) and obj not in s.lower()]
     if len(motions) != 1:
         return None
     lines: list[str] = []

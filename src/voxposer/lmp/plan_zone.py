@@ -15,19 +15,10 @@ sub-task's post-conditions go with it (they spoke of the wrong place).
 
 from __future__ import annotations
 
-import re
-from typing import Final
-
-from voxposer.lmp.checklist import HAND_MOTION_START, REGION_SAID, SPEED_WORDS
+from voxposer.lmp.checklist import HAND_MOTION, REGION_SAID, says_speed
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import speed_factor, speed_span
 from voxposer.lmp.unasked import named_places
-
-_MOTION: Final = re.compile(HAND_MOTION_START, re.I)
-
-
-def _speaks_of_speed(text: str) -> bool:
-    return bool(set(re.findall(r"[a-z]+", text.lower())) & SPEED_WORDS)
 
 
 def zone_not_destination(instruction: str, code: str, names: tuple[str, ...] = ()
@@ -44,9 +35,9 @@ def zone_not_destination(instruction: str, code: str, names: tuple[str, ...] = (
     if len(named_places(said) - {part}) != 1:
         return None
     to_zone = [i for i, (s, _, _) in enumerate(steps)
-               if _MOTION.match(s) and named_places(s) == {part} and _speaks_of_speed(s)]
+               if HAND_MOTION.match(s) and named_places(s) == {part} and says_speed(s)]
     to_place = [i for i, (s, _, _) in enumerate(steps)
-                if _MOTION.match(s) and named_places(s) - {part} and not _speaks_of_speed(s)]
+                if HAND_MOTION.match(s) and named_places(s) - {part} and not says_speed(s)]
     if len(to_zone) != 1 or len(to_place) != 1:
         return None
     zone_words = steps[to_zone[0]][0]

@@ -60,15 +60,15 @@ def shortcut(
     vox = (np.asarray(points, dtype=np.float64) - grid.bounds_min) / grid.resolution
     limit = np.asarray(grid.shape) - 1
     near = near_blocked(np.asarray(obstacles, dtype=bool))
-    avoid = np.zeros(grid.shape, np.float32) if avoidance is None else avoidance
-    price, _, worst = _prices(vox[:-1], vox[1:], cost, obstacles, near, avoid, length_weight,
-                              limit)
+    price, _, worst = _prices(vox[:-1], vox[1:], cost, obstacles, near, avoidance,
+                              length_weight, limit)
     along = np.concatenate([[0.0], np.cumsum(price)])
     kept, i = [0], 0
     while i < n - 1:
         ends = np.arange(i + 1, n)
         price, blocked, nearest = _prices(np.repeat(vox[i:i + 1], len(ends), axis=0), vox[ends],
-                                          cost, obstacles, near, avoid, length_weight, limit)
+                                          cost, obstacles, near, avoidance, length_weight,
+                                          limit)
         fine = ~blocked & (price <= along[ends] - along[i] + 1e-9) \
             & (nearest <= np.maximum.accumulate(worst[i:]) + 1e-9)
         fine[0] = True  # the path's own next vertex
@@ -78,13 +78,14 @@ def shortcut(
 
 
 def _prices(a: NDArray[np.float64], b: NDArray[np.float64], cost: NDArray[np.floating],
-            obstacles: NDArray[np.bool_], near: NDArray[np.bool_], avoid: NDArray[np.floating],
-            length_weight: float, limit: NDArray[np.int64]
+            obstacles: NDArray[np.bool_], near: NDArray[np.bool_],
+            avoid: NDArray[np.floating] | None, length_weight: float, limit: NDArray[np.int64]
             ) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
     """For K straight segments a → b (voxel coordinates, shapes (K, 3)): their costs, shape
     (K,), whether a voxel-sized cube swept along each touches an obstacle voxel other than
-    its first point's, shape (K,), and the largest ``avoid`` value each passes, shape (K,). Read every 1 / ``SAMPLES_PER_VOXEL`` voxel; the cube's
-    corners find every voxel it touches, and cubes half a voxel apart cover the swept volume.
+    its first point's, shape (K,), and the largest ``avoid`` value each passes, shape (K,)
+    (zeros without ``avoid``). Read every 1 / ``SAMPLES_PER_VOXEL`` voxel; the cube's corners
+    find every voxel it touches, and cubes half a voxel apart cover the swept volume.
     Only samples in a voxel ``near`` an obstacle (one of its 26 neighbours or itself blocked)
     can touch one, so only their corners are read."""
     length = np.linalg.norm(b - a, axis=1)  # [voxels]
@@ -95,7 +96,8 @@ def _prices(a: NDArray[np.float64], b: NDArray[np.float64], cost: NDArray[np.flo
     idx = np.clip(np.floor(samples).astype(np.int64), 0, limit)
     at = (idx[..., 0], idx[..., 1], idx[..., 2])
     price = np.sum(np.where(valid, length_weight + cost[at], 0.0), axis=1) * length / steps
-    nearest = np.max(np.where(valid, avoid[at], 0.0), axis=1)
+    nearest = np.zeros(len(a)) if avoid is None else np.max(np.where(valid, avoid[at], 0.0),
+                                                            axis=1)
     seg, col = np.nonzero(valid & near[at])  # the samples whose cube may touch an obstacle
     first = np.clip(np.floor(a).astype(np.int64), 0, limit)[seg][:, None, :]
     corners = np.clip(np.floor(samples[seg, col][:, None, :] + _CORNERS).astype(np.int64),
