@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -262,3 +263,50 @@ def test_the_cli_accepts_and_lists_every_perception_mode(capsys: pytest.CaptureF
     with pytest.raises(SystemExit):
         parser.parse_args(["bench", "--help"])
     assert "colour-depth-noisy" in capsys.readouterr().out
+
+
+class _Streaming:
+    """A fake source of two cameras: "a" renews its frame at every new time, "b" only when
+    the test says (a camera whose next frame is not due)."""
+
+    object_names = ("a",)
+
+    def __init__(self) -> None:
+        self.time = 0.0
+        self.frames = {"a": _frame(name="a"), "b": _frame(0.8, name="b")}
+        self._obs = _obs(*self.frames.values(), time=0.0)
+
+    def renew(self, name: str) -> None:
+        self.frames[name] = replace(self.frames[name])
+
+    def observe(self, *, rgb: bool = True) -> Observation:
+        if self._obs.time != self.time:
+            self.frames["a"] = replace(self.frames["a"])
+            self._obs = _obs(*self.frames.values(), time=self.time)
+        return self._obs
+
+
+def test_a_frame_not_renewed_keeps_its_noise_and_a_new_one_is_noised_afresh() -> None:
+    raw = _Streaming()
+    source = NoisyObservationSource(raw, TYPICAL, seed=5)
+    first = source.observe()
+    whole = add_sensor_noise(raw.observe(), TYPICAL,
+                             np.random.default_rng([5, 0, 1, 0]), source._calibration)
+    assert _same(first, whole)  # every frame new: the whole observation's noise, as before
+    raw.time = 0.2
+    second = source.observe()
+    assert second.cameras[1] is first.cameras[1]  # "b" not renewed: the same noisy image
+    assert not np.array_equal(second.cameras[0].depth, first.cameras[0].depth, equal_nan=True)
+    raw.renew("b")
+    raw.time = 0.4
+    third = source.observe()
+    assert third.cameras[1] is not first.cameras[1]
+    assert not np.array_equal(third.cameras[1].depth, first.cameras[1].depth, equal_nan=True)
+    replay = _Streaming()
+    again = NoisyObservationSource(replay, TYPICAL, seed=5)
+    for t in (0.0, 0.2):  # the same frames at the same times: the same noise
+        replay.time = t
+        again.observe()
+    replay.renew("b")
+    replay.time = 0.4
+    assert _same(again.observe(), third)

@@ -32,7 +32,7 @@ from voxposer.perception.names import match_name
 from voxposer.perception.observation import Observation
 from voxposer.perception.occlusion_memory import REMEMBERED_KINDS, OcclusionMemory
 from voxposer.perception.perceiver import ObservationSource
-from voxposer.perception.pixel_labels import PixelLabels, label_pixels
+from voxposer.perception.pixel_labels import PixelLabels, ViewClouds, label_pixels
 from voxposer.perception.point_cloud import PointCloud
 from voxposer.perception.scene_occupancy import scene_occupancy
 from voxposer.perception.sliding_axis import drawer_front_normal
@@ -61,6 +61,8 @@ class ColourDepthPerceiver:
         self._known: dict[str, None] = dict.fromkeys(_FIXED)
         self._openings: dict[str, float] = {}
         self._tracks: dict[str, NDArray[np.float64]] = {}
+        #: each camera's last frame and its coloured points (a frame not renewed is kept)
+        self._views: ViewClouds = {}
         #: the parts of blocks and lines other objects hide now (a block on a line's end)
         self._memory = OcclusionMemory()
         self._detections: dict[str, DetectedObject] = {}
@@ -88,7 +90,8 @@ class ColourDepthPerceiver:
         obs = self.observe()
         if self._labels is None:
             start = time.perf_counter()
-            self._labels = label_pixels(obs, self._grid, self._openings, self._tracks)
+            self._labels = label_pixels(obs, self._grid, self._openings, self._tracks,
+                                        self._views)
             self.label_times_ms.append((time.perf_counter() - start) * 1e3)
             self._openings.update(self._labels.openings)
             self._tracks.update(self._labels.tracks)

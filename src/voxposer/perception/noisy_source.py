@@ -7,7 +7,11 @@ simulator.
 :func:`~voxposer.perception.sensor_noise.add_sensor_noise` to what it observes. It is
 deterministic: the noise of an observation depends only on the seed, the episode and the
 observation's time, so asking twice at one instant (or once with colour and once without) gives
-the same views, and the same episode replayed gives the same noise. Each camera's calibration
+the same views, and the same episode replayed gives the same noise. A camera whose frame is the
+very one ``source`` served before (a camera streaming at its own rate whose next frame is not
+due: ``CameraConfig.frame_hz``) keeps that frame's noisy copy, as a real camera's frame is one
+image until the next; only new frames are noised, drawn in camera order from the seed, the
+episode and the time of the observation that brought them. Each camera's calibration
 error is drawn once per episode and kept; an episode starts when the source is made and again
 whenever the observed time goes back (the world was reset).
 """
@@ -15,12 +19,13 @@ whenever the observed time goes back (the world was reset).
 from __future__ import annotations
 
 import hashlib
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.errors import ConfigError
-from voxposer.perception.observation import Observation
+from voxposer.perception.observation import CameraFrame, Observation
 from voxposer.perception.perceiver import ObservationSource
 from voxposer.perception.sensor_noise import SensorNoiseConfig, add_sensor_noise, draw_calibration
 
@@ -54,6 +59,8 @@ class NoisyObservationSource:
         self._last_time: float | None = None
         self._raw: Observation | None = None
         self._noisy: Observation | None = None
+        #: camera name → (the source's frame, its noisy copy) of the frames served last
+        self._frames: dict[str, tuple[CameraFrame, CameraFrame]] = {}
 
     @property
     def object_names(self) -> tuple[str, ...]:
@@ -69,6 +76,7 @@ class NoisyObservationSource:
         if self._last_time is not None and raw.time < self._last_time:
             self.episode += 1
             self._calibration = None
+            self._frames = {}
         self._last_time = raw.time
         if self._calibration is None:
             rng = np.random.default_rng([self.seed, self.episode, 0, 0])
@@ -79,9 +87,19 @@ class NoisyObservationSource:
             new = [f.name for f in raw.cameras if f.name not in self._calibration]
             self._calibration.update(draw_calibration(self.config, new, rng))
         rng = np.random.default_rng([self.seed, self.episode, 1, round(raw.time * 1e6)])
+        fresh = tuple(f for f in raw.cameras if self._held(f) is None)
+        noised = iter(add_sensor_noise(replace(raw, cameras=fresh), self.config, rng,
+                                       self._calibration).cameras if fresh else ())
+        frames = tuple(self._held(f) or next(noised) for f in raw.cameras)
+        self._frames = {f.name: (f, n) for f, n in zip(raw.cameras, frames, strict=True)}
         self._raw = raw
-        self._noisy = add_sensor_noise(raw, self.config, rng, self._calibration)
+        self._noisy = replace(raw, cameras=frames)
         return self._noisy
+
+    def _held(self, frame: CameraFrame) -> CameraFrame | None:
+        """The noisy copy made of ``frame`` before, if it is the frame served last time."""
+        held = self._frames.get(frame.name)
+        return held[1] if held is not None and held[0] is frame else None
 
 
 __all__ = ["NoisyObservationSource", "seed_from_scene"]

@@ -29,8 +29,8 @@ from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.cabinet_fit import fit_cabinet
 from voxposer.perception.colour_names import GRAY, colour_labels
 from voxposer.perception.colour_objects import find_blocks_and_lines, line_prior
-from voxposer.perception.observation import Observation
-from voxposer.perception.point_cloud import PointCloud, fuse_views
+from voxposer.perception.observation import CameraFrame, Observation
+from voxposer.perception.point_cloud import PointCloud, concatenate_clouds, fuse_views
 
 #: Points at most this high [m] (and down the table's edge) with some hue, left over once blocks,
 #: lines and the cabinet are found, are the table. The band holds a consumer RGB-D camera's table
@@ -68,15 +68,35 @@ class PixelLabels:
     tracks: dict[str, NDArray[np.float64]] = field(default_factory=dict)
 
 
-def colour_cloud(obs: Observation, grid: VoxelGrid) -> PointCloud:
+#: Per camera index: (the view, its grid-cropped points with their colour words) — what
+#: :func:`colour_cloud` keeps between calls when given a dict to keep it in.
+ViewClouds = dict[int, tuple[CameraFrame, PointCloud]]
+
+
+def colour_cloud(obs: Observation, grid: VoxelGrid, reuse: ViewClouds | None = None
+                 ) -> PointCloud:
     """Every view fused into one cloud cropped to ``grid``, whose ``labels`` are colour words
     (indices into :data:`voxposer.catalog.COLOR_NAMES`, -1 none) read from RGB. The views'
     segmentation channel is never read: the fused cloud's labels are replaced by the colour
-    words of its points' RGB (only the pixels kept by the crop are classified)."""
-    blank = [replace(f, object_ids=np.full(f.depth.shape, -1, dtype=np.int32))
-             for f in obs.cameras]
-    cloud = fuse_views(blank, grid)
-    return replace(cloud, labels=colour_labels(cloud.colors))
+    words of its points' RGB (only the pixels kept by the crop are classified).
+
+    ``reuse`` keeps each view's coloured points between calls (updated in place): a view that
+    is the very frame seen last time (a camera whose next frame is not due) is neither lifted
+    nor classified again; the cloud is the same as without it."""
+    parts: list[PointCloud] = []
+    for k, view in enumerate(obs.cameras):
+        held = None if reuse is None else reuse.get(k)
+        if held is not None and held[0] is view:
+            parts.append(held[1])
+            continue
+        blank = replace(view, object_ids=np.full(view.depth.shape, -1, dtype=np.int32))
+        part = fuse_views([blank], grid)
+        part = replace(part, labels=colour_labels(part.colors),
+                       camera=np.full(len(part), k, dtype=np.int16))
+        parts.append(part)
+        if reuse is not None:
+            reuse[k] = (view, part)
+    return concatenate_clouds(parts)
 
 
 def _gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
@@ -91,7 +111,8 @@ def _gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
 
 def label_pixels(obs: Observation, grid: VoxelGrid,
                  prior_openings: dict[str, float] | None = None,
-                 prior_tracks: dict[str, NDArray[np.float64]] | None = None) -> PixelLabels:
+                 prior_tracks: dict[str, NDArray[np.float64]] | None = None,
+                 views: ViewClouds | None = None) -> PixelLabels:
     """Catalog labels for the fused cloud of ``obs`` from its RGB and depth only.
 
     Args:
@@ -101,8 +122,9 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
         prior_tracks: tracks of the blocks and lines found before
             (:attr:`PixelLabels.tracks`), to follow the gray block and line when they join
             other gray points (:mod:`voxposer.perception.colour_objects`).
+        views: each view's coloured points kept between calls (:func:`colour_cloud`).
     """
-    colour_pts = colour_cloud(obs, grid)
+    colour_pts = colour_cloud(obs, grid, views)
     points, colours = colour_pts.points, colour_pts.labels
     labels = np.full(len(points), NO_OBJECT, dtype=np.int32)
     seen: list[str] = []
@@ -134,4 +156,4 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
     return PixelLabels(cloud, tuple(seen), dict(fit.openings), fit.present, tracks)
 
 
-__all__ = ["PixelLabels", "colour_cloud", "label_pixels"]
+__all__ = ["PixelLabels", "ViewClouds", "colour_cloud", "label_pixels"]

@@ -154,6 +154,11 @@ def fuse_views(views: Sequence[DepthView], grid: VoxelGrid | None = None,
                                 np.full(len(pts), cam_index, dtype=np.int16)))
         if reuse is not None:
             reuse[cam_index] = (view, parts[-1])
+    return concatenate_clouds(parts)
+
+
+def concatenate_clouds(parts: Sequence[PointCloud]) -> PointCloud:
+    """One cloud of ``parts``' points, in order (an empty cloud for none)."""
     if not parts:
         return PointCloud(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, np.int32),
                           np.zeros((0, 3), np.uint8), np.zeros(0, np.int16))
