@@ -16,7 +16,8 @@ world, _ = make_world("door")
 traj = record_zero_shot(world, reference_backend("door"), INSTRUCTIONS["door"], task="door",
                         source="reference", seed=seed, period_s=0.25)
 print("tau0", traj.success, len(traj.waypoints), flush=True)
-cfg = LearnConfig(episode_offset_m=offset, cost=TaskCostConfig(held_at_handle=at_handle))
+rel = len(sys.argv) > 5 and sys.argv[5] == "rel"
+cfg = LearnConfig(episode_offset_m=offset, relative_prior=rel, cost=TaskCostConfig(held_at_handle=at_handle))
 def progress(spec, it, kind, ep):
     print(it, kind, ep.success, ep.reason, round(ep.sim_time_s, 1), flush=True)
 recs = run_learning(RunSpec("door", True, seed), cfg, [traj], make_world, Path(f"/work/runs/door/{name}"), progress)
