@@ -37,7 +37,9 @@ class ExecutorConfig:
             [m]: the finger pads touch it with the grasp centre ~1.4 cm above it, and a hand
             sent to a point on the table (a place named without a height) then drags on it and
             stalls short (0: targets left where they are).
-        ee_planner: planner parameters when the end effector is the entity.
+        ee_planner: planner parameters when the end effector is the entity (a straightened
+            segment of the hand's path also comes no nearer what it avoids:
+            ``shortcut_keeps_distance``).
         object_planner: planner parameters when an object or part is the entity.
         push: random-shooting MPC parameters.
     """
@@ -53,7 +55,8 @@ class ExecutorConfig:
     carry_min_opening_m: float = 0.02
     hand_floor_m: float = 0.02
     ee_planner: PlannerConfig = field(
-        default_factory=lambda: PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=1.0))
+        default_factory=lambda: PlannerConfig(cost=CostMapConfig(obstacle_margin_cm=1.0),
+                                              shortcut_keeps_distance=True)
     )
     object_planner: PlannerConfig = field(default_factory=_object_planner)
     push: PushConfig = field(default_factory=PushConfig)
