@@ -87,10 +87,11 @@ class NoisyObservationSource:
             new = [f.name for f in raw.cameras if f.name not in self._calibration]
             self._calibration.update(draw_calibration(self.config, new, rng))
         rng = np.random.default_rng([self.seed, self.episode, 1, round(raw.time * 1e6)])
-        fresh = tuple(f for f in raw.cameras if self._held(f) is None)
+        held = [self._held(f) for f in raw.cameras]
+        fresh = tuple(f for f, h in zip(raw.cameras, held, strict=True) if h is None)
         noised = iter(add_sensor_noise(replace(raw, cameras=fresh), self.config, rng,
                                        self._calibration).cameras if fresh else ())
-        frames = tuple(self._held(f) or next(noised) for f in raw.cameras)
+        frames = tuple(next(noised) if h is None else h for h in held)
         self._frames = {f.name: (f, n) for f, n in zip(raw.cameras, frames, strict=True)}
         self._raw = raw
         self._noisy = replace(raw, cameras=frames)
