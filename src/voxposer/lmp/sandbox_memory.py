@@ -5,8 +5,11 @@ range(10**5)]``) add up unseen. While generated code runs, the tracer calls :fun
 :data:`EVERY` lines; it reads the process's resident memory (``/proc/self/statm``, a few µs) and
 the C heap's bytes in use (glibc's ``mallinfo2``, where there is one), and raises a
 :class:`~voxposer.errors.SandboxError` once either exceeds the run's start by more than the
-sandbox's byte budget. Resident memory alone misses allocations that reuse memory the process
-freed earlier and kept (a long-lived process: a test run, a benchmark worker): the heap's
+sandbox's byte budget. Both count from the lowest reading of the run so far, not from its
+start: the process may meanwhile free memory that generated code did not take (the cyclic
+garbage collector, triggered by the code's allocations, frees what earlier work left), and that
+must not hide what the code takes next. Resident memory alone misses allocations that reuse
+memory the process freed earlier and kept (a long-lived process: a test run, a benchmark worker): the heap's
 bytes in use count them. Memory that trusted callbacks take (inside ``suspend_time_limit``: a
 nested LLM call loading a model) is not counted. Where ``/proc`` is missing the watch is off;
 ``SandboxConfig(isolation="process")`` adds an OS limit on top.
@@ -101,14 +104,21 @@ def check() -> None:
     if run[2] % EVERY:
         return
     rss, heap = resident_bytes(), heap_bytes()
-    grown = max(_grown(run[0], rss), _grown(run[3], heap))
     if run[3] < 0 and heap is not None:
         run[3] = heap
+    run[0], run[3] = _lowest(run[0], rss), _lowest(run[3], heap)
+    grown = max(_grown(run[0], rss), _grown(run[3], heap))
     if grown > run[1]:
         run[0], run[3] = _now(rss), _now(heap)  # raise once; the frames unwind
         raise SandboxError(
             f"memory limit: the generated code took {grown / 2**20:,.0f} MiB more than at its "
-            f"start; the sandbox allows {run[1] / 2**20:,.0f} MiB in all")
+            f"start (or its lowest point since); the sandbox allows {run[1] / 2**20:,.0f} MiB in all")
+
+
+def _lowest(start_bytes: int, now: int | None) -> int:
+    """The new baseline: the lowest reading so far (the process may free what others left
+    meanwhile: a garbage collection of earlier cycles; growth counts from there)."""
+    return start_bytes if now is None or start_bytes < 0 else min(start_bytes, now)
 
 
 def _grown(start_bytes: int, now: int | None) -> int:
