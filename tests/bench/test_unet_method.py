@@ -31,10 +31,10 @@ torch = pytest.importorskip("torch")
 torch.set_num_threads(1)
 
 from voxposer.unet import predict  # noqa: E402 - after the torch check
-from voxposer.unet.checkpoint import save_checkpoint  # noqa: E402
+from voxposer.unet.checkpoint import load_checkpoint, save_checkpoint  # noqa: E402
 from voxposer.unet.model import UNetConfig  # noqa: E402
 from voxposer.unet.train import batch_from_arrays, make_model, train_step  # noqa: E402
-from voxposer.unet.vocabulary import Vocabulary  # noqa: E402
+from voxposer.unet.vocabulary import Vocabulary, tokenise  # noqa: E402
 
 TASK, SEED = "move_to_region", 3  # an end-effector task, a dev seed
 MAX_TIME_S = 20.0
@@ -69,9 +69,10 @@ def _oracle(cost: np.ndarray) -> Any:
     return predict_cost
 
 
-def _episode(world: Any, checkpoint: Path, task: str = TASK) -> dict[str, Any]:
+def _episode(world: Any, checkpoint: Path, task: str = TASK,
+             instructions: str = "seen") -> dict[str, Any]:
     job = EpisodeJob(task, "seen", SEED, method=UNET_MP, llm=NO_LLM, max_time_s=MAX_TIME_S,
-                     seed_set="dev", unet_checkpoint=str(checkpoint))
+                     seed_set="dev", unet_checkpoint=str(checkpoint), instructions=instructions)
     return run_episode(job, world).to_json()
 
 
@@ -82,6 +83,39 @@ def test_the_true_cost_as_prediction_succeeds(world, sample: Sample, checkpoint:
     assert rec["error"] is None and rec["program_error"] is None, rec["reason"]
     assert rec["success"], rec["reason"]
     assert rec["method"] == UNET_MP and rec["llm"] == NO_LLM and rec["llm_calls"] == 0
+
+
+def test_a_paraphrased_instruction_reaches_the_unet_and_its_cost_is_followed(
+        world, sample: Sample, checkpoint: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The U-Net's unseen instructions: the paraphrase split's wording is what it is asked
+    (words it never saw are its unknown token), and the planner follows what it predicts."""
+    asked: list[str] = []
+    oracle = _oracle(sample.cost)
+
+    def predict_cost(checkpoint: Any, observation: Any, instruction: str) -> np.ndarray:
+        asked.append(instruction)
+        return oracle(checkpoint, observation, instruction)
+
+    monkeypatch.setattr(predict, "predict_cost", predict_cost)
+    rec = _episode(world, checkpoint, instructions="paraphrased")
+    assert rec["instructions"] == "paraphrased" and rec["instruction"] != sample.instruction
+    assert set(asked) == {rec["instruction"]}
+    assert rec["error"] is None and rec["success"], rec["reason"]
+    words = load_checkpoint(checkpoint).vocabulary.words
+    unknown = [w for w in tokenise(rec["instruction"]) if w not in words]
+    assert unknown  # the reworded instruction holds words outside the training instructions
+
+
+def test_unet_runs_seen_and_paraphrased_instructions_only(checkpoint: Path) -> None:
+    from voxposer.bench.runner import BenchConfig
+    from voxposer.errors import ConfigError
+
+    cfg = BenchConfig(tasks=(TASK,), method=UNET_MP, llm=NO_LLM, unet_checkpoint=checkpoint,
+                      workers=1, instructions="paraphrased")
+    assert {j.instructions for j in cfg.jobs()} == {"paraphrased"}
+    with pytest.raises(ConfigError, match=r"'seen' or 'paraphrased'.*instructions='unseen'"):
+        BenchConfig(tasks=(TASK,), method=UNET_MP, llm=NO_LLM, unet_checkpoint=checkpoint,
+                    workers=1, instructions="unseen")
 
 
 def test_a_block_is_pushed_along_the_true_cost(world, checkpoint: Path,

@@ -56,6 +56,11 @@ UNET_MP: Final = "unet_mp"
 NO_LLM: Final = "none"
 #: the reference plans' fixed motion after a sub-task (no cost map: run as it is).
 DEFAULT_POSE: Final = "back to default pose"
+#: the instruction splits the method runs: the templates it was trained on, and the paraphrase
+#: split's phrasings (words its vocabulary never saw map to its one unknown token) — its
+#: "unseen instructions", as the paper's U-Net + MP is tested on instructions outside its
+#: training data.
+UNET_INSTRUCTIONS: Final = ("seen", "paraphrased")
 #: hex digits of the checkpoint's sha256 each record keeps.
 SHA_PREFIX: Final = 16
 _COMPOSER = re.compile(r"composer\('([^']+)'\)")
@@ -139,8 +144,8 @@ def check_unet_options(method: str, llm: str, checkpoint: Path | None, *, suite:
 
     Raises:
         ConfigError: unet_mp without a checkpoint, with an LLM, another suite than "tasks" or
-            instructions other than "seen"; a missing file or one for another cost grid; a
-            checkpoint or ``llm="none"`` with another method.
+            instructions other than :data:`UNET_INSTRUCTIONS`; a missing file or one for
+            another cost grid; a checkpoint or ``llm="none"`` with another method.
     """
     if method != UNET_MP:
         if checkpoint is not None:
@@ -156,9 +161,12 @@ def check_unet_options(method: str, llm: str, checkpoint: Path | None, *, suite:
     if llm != NO_LLM:
         raise ConfigError(f"--method {UNET_MP} runs no LLM (its cost map is the U-Net's); drop "
                           f"--llm {llm}")
-    if suite != "tasks" or instructions != "seen":
-        raise ConfigError(f"--method {UNET_MP} runs the 13 tasks with seen instructions (its "
-                          f"training data); got suite={suite!r}, instructions={instructions!r}")
+    if suite != "tasks" or instructions not in UNET_INSTRUCTIONS:
+        raise ConfigError(f"--method {UNET_MP} runs the 13 tasks with instructions "
+                          f"{' or '.join(map(repr, UNET_INSTRUCTIONS))} (its training "
+                          "instructions, or reworded ones it never saw; 'unseen' holds examples "
+                          f"out of an LLM's prompts, which it has none of); got suite={suite!r}, "
+                          f"instructions={instructions!r}")
     from voxposer.control.config import ExecutorConfig
     from voxposer.envs.config import WorldConfig
 
@@ -235,7 +243,8 @@ def run_unet_mp(world: Any, setup: EpisodeSetup, checkpoint: str | None,
     body = Embodiment.simulated(world)
     grid, perceiver = body.perceiver.grid, body.perceiver
     ckpt = load_for_grid(checkpoint, planning_grid_shape(grid, config))
-    first = first_subtask(get_task(setup.task).reference(setup.attributes), setup.instruction)
+    task = get_task(setup.task)  # the plan is the template's (a paraphrase reads the same)
+    first = first_subtask(task.reference(setup.attributes), task.instruction(setup.attributes))
     loop = ClosedLoopController(body.robot, perceiver, rng, config)
     def observe_cloud() -> PointCloud:  # with colour, as the training data
         return colour_cloud(world.observe(rgb=True), grid)
@@ -260,6 +269,6 @@ def run_unet_mp(world: Any, setup: EpisodeSetup, checkpoint: str | None,
         body.robot.reset_to_default_pose()
 
 
-__all__ = ["DEFAULT_POSE", "NO_LLM", "UNET_MP", "FirstSubtask", "PredictedCostPlanner",
+__all__ = ["DEFAULT_POSE", "NO_LLM", "UNET_INSTRUCTIONS", "UNET_MP", "FirstSubtask", "PredictedCostPlanner",
            "check_unet_options", "checkpoint_identity", "first_subtask", "load_for_grid",
            "planning_grid_shape", "run_unet_mp"]
