@@ -12,13 +12,14 @@ runs at twice real time. ``shooting_ms`` is one random-shooting step with 10,000
 against a cost map. The last line is machine-readable.
 
     python benchmarks/closed_loop.py [--episodes 3] [--perception colour-depth-noisy]
-                                     [--camera-hz 2.5]
+                                     [--camera-hz 2.5] [--track-labels]
 
 ``--perception`` picks the perceiver (:data:`voxposer.pipeline.PERCEPTIONS`; default the
 simulator's segmentation), e.g. the pixel perception with sensor noise. ``--camera-hz`` lets
 each camera stream at its own rate in simulated time (``CameraConfig.frame_hz``: at 2.5 Hz two
 of the four views are new at each 5 Hz replan, and a view not renewed is not lifted again);
-default: all four views new at every replan.
+default: all four views new at every replan. ``--track-labels`` lets the pixel perception
+carry its labels between detections (:mod:`voxposer.perception.label_tracking`).
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ from voxposer.envs import TabletopWorld
 from voxposer.envs.config import WorldConfig
 from voxposer.envs.layout import SceneLayout
 from voxposer.lmp.backends.replay import ReplayBackend
+from voxposer.perception.label_tracking import LabelTrackingConfig
 from voxposer.pipeline import PERCEPTIONS, Embodiment, voxposer_runtime
 from voxposer.planning.mpc import random_shooting
 from voxposer.planning.push_primitive import PushConfig
@@ -54,12 +56,16 @@ def main() -> None:
     parser.add_argument("--camera-hz", type=float, default=None,
                         help="each camera's frame rate in simulated time [Hz] (default: every "
                         "camera at every observation)")
+    parser.add_argument("--track-labels", action="store_true",
+                        help="carry the pixel labels between detections (colour-depth "
+                        "perceptions: voxposer.perception.label_tracking, its defaults)")
     args = parser.parse_args()
+    tracking = LabelTrackingConfig() if args.track_labels else None
     console = Console(stderr=True)
     config = WorldConfig()
     world = TabletopWorld(replace(config, cameras=replace(config.cameras,
                                                           frame_hz=args.camera_hz)))
-    body = Embodiment.simulated(world, args.perception)
+    body = Embodiment.simulated(world, args.perception, tracking=tracking)
     steps: list[dict[str, float]] = []
     successes, replans, wall_s, sim_s = 0, 0, 0.0, 0.0
     for seed in range(args.episodes):
@@ -108,7 +114,8 @@ def main() -> None:
                   f"{np.median(per_step):.1f}", f"{hz:.1f}", f"{loop_hz:.1f}", f"{realtime:.2f}",
                   f"{np.median(shots):.1f}")
     console.print(table)
-    print(f"perception={args.perception} camera_hz={args.camera_hz} replan_hz={hz:.2f} "
+    print(f"perception={args.perception} camera_hz={args.camera_hz} "
+          f"track_labels={int(args.track_labels)} replan_hz={hz:.2f} "
           f"loop_hz={loop_hz:.2f} realtime={realtime:.2f} shooting_ms={np.median(shots):.2f}")
 
 

@@ -27,6 +27,7 @@ from voxposer.lmp.runtime import LMPRuntime
 from voxposer.lmp.scene import RobotScene
 from voxposer.lmp.transcript import Transcript
 from voxposer.perception.colour_depth import ColourDepthPerceiver
+from voxposer.perception.label_tracking import LabelTrackingConfig
 from voxposer.perception.noisy_source import NoisyObservationSource, seed_from_scene
 from voxposer.perception.perceiver import Perceiver
 from voxposer.perception.segmentation import SegmentationPerceiver
@@ -58,7 +59,8 @@ def use_perception(name: str) -> None:
 
 
 def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig | None = None,
-                        seed: int | None = None, register: bool = True) -> Perceiver:
+                        seed: int | None = None, register: bool = True,
+                        tracking: LabelTrackingConfig | None = None) -> Perceiver:
     """The perceiver ``perception`` (:data:`PERCEPTIONS`) reading ``world``'s cameras.
 
     A "-noisy" one reads them through a
@@ -68,7 +70,16 @@ def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig
     so an episode's noise is fixed by its scene), and, with ``register`` and calibration
     error on, registers those cameras against each other once per episode
     (:class:`~voxposer.perception.view_registration.RegisteredObservationSource`).
+    ``tracking``: carry the pixel labels between detections
+    (:mod:`voxposer.perception.label_tracking`; colour-depth perceptions only).
+
+    Raises:
+        ConfigError: an unknown perception, or ``tracking`` for one that does not detect from
+            pixels.
     """
+    if tracking is not None and not check_perception(perception).startswith("colour-depth"):
+        raise ConfigError(f"label tracking is for the colour-depth perceptions (they detect from "
+                          f"pixels); perception {perception!r} reads the simulator's labels")
     source = world
     if check_perception(perception).endswith("-noisy"):
         config = noise or SensorNoiseConfig()
@@ -79,7 +90,7 @@ def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig
         if register and config.calibration:
             source = RegisteredObservationSource(source, world.grid)
     if perception.startswith("colour-depth"):
-        return ColourDepthPerceiver(source, world.grid)
+        return ColourDepthPerceiver(source, world.grid, tracking)
     return SegmentationPerceiver(source, world.grid)
 
 
@@ -97,11 +108,13 @@ class Embodiment:
     perceiver: Perceiver
 
     @classmethod
-    def simulated(cls, world: Any, perception: str | None = None) -> Embodiment:
+    def simulated(cls, world: Any, perception: str | None = None, *,
+                  tracking: LabelTrackingConfig | None = None) -> Embodiment:
         """The MuJoCo world as robot, read by ``perception`` (:data:`PERCEPTIONS`; None: this
         process's default, see :func:`use_perception`, normally "ground-truth": segmentation as
-        in the paper's App. A.5)."""
-        return cls(world, simulated_perceiver(world, perception or _perception["default"]))
+        in the paper's App. A.5); ``tracking`` as :func:`simulated_perceiver`."""
+        return cls(world, simulated_perceiver(world, perception or _perception["default"],
+                                              tracking=tracking))
 
     @property
     def scene(self) -> RobotScene:

@@ -28,6 +28,7 @@ from voxposer import catalog
 from voxposer.errors import ObjectNotVisibleError
 from voxposer.geometry.voxel_grid import VoxelGrid
 from voxposer.perception.detect import DetectedObject, detect_in_cloud
+from voxposer.perception.label_tracking import LabelTrackingConfig, track_labels
 from voxposer.perception.names import match_name
 from voxposer.perception.observation import Observation
 from voxposer.perception.occlusion_memory import REMEMBERED_KINDS, OcclusionMemory
@@ -51,13 +52,24 @@ class ColourDepthPerceiver:
     Args:
         source: what observes the scene; asked for colour (``observe(rgb=True)``).
         grid: the workspace grid; the fused cloud is cropped to it.
+        tracking: between full detections, carry the labels of the last cloud to the new one
+            (:mod:`voxposer.perception.label_tracking`: a detection at least every
+            ``redetect_s`` of observation time, and whenever tracking gives up); None: detect
+            in every observation.
     """
 
-    def __init__(self, source: ObservationSource, grid: VoxelGrid) -> None:
+    def __init__(self, source: ObservationSource, grid: VoxelGrid,
+                 tracking: LabelTrackingConfig | None = None) -> None:
         self.source = source
         self._grid = grid
+        self.tracking = tracking
+        #: the last full detection: its observation time [s] and unexplained chromatic points
+        self._detected: tuple[float, int] | None = None
+        #: per new observation: whether its labels were carried (True) or detected (False)
+        self.carried: list[bool] = []
         self._obs: Observation | None = None
         self._labels: PixelLabels | None = None
+        self._last: PixelLabels | None = None
         self._known: dict[str, None] = dict.fromkeys(_FIXED)
         self._openings: dict[str, float] = {}
         self._tracks: dict[str, NDArray[np.float64]] = {}
@@ -90,8 +102,13 @@ class ColourDepthPerceiver:
         obs = self.observe()
         if self._labels is None:
             start = time.perf_counter()
-            self._labels = label_pixels(obs, self._grid, self._openings, self._tracks,
-                                        self._views)
+            self._labels = self._carried(obs)
+            self.carried.append(self._labels is not None)
+            if self._labels is None:
+                self._labels = label_pixels(obs, self._grid, self._openings, self._tracks,
+                                            self._views)
+                self._detected = (float(obs.time), self._labels.unexplained)
+            self._last = self._labels
             self.label_times_ms.append((time.perf_counter() - start) * 1e3)
             self._openings.update(self._labels.openings)
             self._tracks.update(self._labels.tracks)
@@ -102,6 +119,16 @@ class ColourDepthPerceiver:
             if self._labels.cabinet:
                 self._known.update(dict.fromkeys(catalog.family("cabinet")))
         return self._labels
+
+    def _carried(self, obs: Observation) -> PixelLabels | None:
+        """The labels of ``obs`` carried from the last cloud, when tracking is on, a detection
+        is not due and tracking holds; else None."""
+        if self.tracking is None or self._detected is None or self._last is None:
+            return None
+        if float(obs.time) - self._detected[0] >= self.tracking.redetect_s:
+            return None
+        return track_labels(obs, self._grid, self._last, self.tracking, self._detected[1],
+                            self._views)
 
     def point_cloud(self) -> PointCloud:
         """The fused cloud, labelled from pixels (labels index :data:`catalog.OBJECTS`)."""

@@ -59,6 +59,9 @@ class PixelLabels:
             (the gray block and line among other gray points): block name → its centre [m],
             shape (3,); line name → its footprint
             (:func:`~voxposer.perception.colour_objects.line_prior`).
+        unexplained: points with a chromatic colour word that no block, line or cabinet part
+            took (the table's own, stray pixels; the tracker's baseline,
+            :mod:`voxposer.perception.label_tracking`).
     """
 
     cloud: PointCloud
@@ -66,6 +69,7 @@ class PixelLabels:
     openings: dict[str, float]
     cabinet: bool
     tracks: dict[str, NDArray[np.float64]] = field(default_factory=dict)
+    unexplained: int = 0
 
 
 #: Per camera index: (the view, its grid-cropped points with their colour words) — what
@@ -99,7 +103,7 @@ def colour_cloud(obs: Observation, grid: VoxelGrid, reuse: ViewClouds | None = N
     return concatenate_clouds(parts)
 
 
-def _gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
+def gripper_mask(points: NDArray[np.float64], ee_position: NDArray[np.float64],
                   ee_quat: NDArray[np.float64]) -> NDArray[np.bool_]:
     """Points (shape (N, 3)) inside the gripper's cylinder around the end-effector pose."""
     approach = Rotation.from_quat(ee_quat).apply([0.0, 0.0, 1.0])
@@ -128,32 +132,54 @@ def label_pixels(obs: Observation, grid: VoxelGrid,
     points, colours = colour_pts.points, colour_pts.labels
     labels = np.full(len(points), NO_OBJECT, dtype=np.int32)
     seen: list[str] = []
-    tracks: dict[str, NDArray[np.float64]] = {}
-    for name, idx in find_blocks_and_lines(points, colours, prior_tracks).items():
+    found = find_blocks_and_lines(points, colours, prior_tracks)
+    for name, idx in found.items():
         labels[idx] = label_of(name)
         seen.append(name)
-        if name.endswith(" block"):
-            tracks[name] = points[idx].mean(axis=0)
-        elif len(idx) >= 2:
-            tracks[name] = line_prior(points[idx])
-    free = labels == NO_OBJECT
-    achromatic = colours == GRAY
-    hued = np.flatnonzero(free & ~achromatic)
+    hued = np.flatnonzero((labels == NO_OBJECT) & (colours != GRAY))
     fit = fit_cabinet(points[hued], colour_pts.normals[hued], prior_openings)
     for name, idx in fit.parts.items():
         if len(idx):
             labels[hued[idx]] = label_of(name)
             seen.append(name)
+    return finish_labels(colour_pts, labels, seen, obs, dict(fit.openings), fit.present,
+                         object_tracks(points, found))
+
+
+def object_tracks(points: NDArray[np.float64], found: dict[str, NDArray[np.int64]]
+                  ) -> dict[str, NDArray[np.float64]]:
+    """:attr:`PixelLabels.tracks` of the blocks and lines ``found`` (name → indices into
+    ``points``, shape (N, 3) [m])."""
+    tracks: dict[str, NDArray[np.float64]] = {}
+    for name, idx in found.items():
+        if name.endswith(" block"):
+            tracks[name] = points[idx].mean(axis=0)
+        elif name.endswith(" line") and len(idx) >= 2:
+            tracks[name] = line_prior(points[idx])
+    return tracks
+
+
+def finish_labels(colour_pts: PointCloud, labels: NDArray[np.int32], seen: list[str],
+                  obs: Observation, openings: dict[str, float], cabinet: bool,
+                  tracks: dict[str, NDArray[np.float64]]) -> PixelLabels:
+    """The labelled cloud once blocks, lines and cabinet parts hold their labels (``labels``,
+    shape (N,), updated in place): what is left at table height with some hue is the table,
+    what is left achromatic the robot, and of it what lies around the end effector's pose the
+    gripper."""
+    points, colours = colour_pts.points, colour_pts.labels
     free = labels == NO_OBJECT
+    achromatic = colours == GRAY
+    unexplained = int(np.count_nonzero(free & (colours >= 0) & ~achromatic))
     labels[free & ~achromatic & (points[:, 2] <= TABLE_TOP_M)] = label_of("table")
     robot = np.flatnonzero(free & achromatic)
-    gripper = robot[_gripper_mask(points[robot], np.asarray(obs.ee_position, np.float64),
-                                  np.asarray(obs.ee_quat, np.float64))]
+    gripper = robot[gripper_mask(points[robot], np.asarray(obs.ee_position, np.float64),
+                                 np.asarray(obs.ee_quat, np.float64))]
     labels[robot] = label_of("robot")
     labels[gripper] = label_of("gripper")
-    seen += [n for n in ("table", "robot", "gripper") if np.any(labels == label_of(n))]
+    seen = seen + [n for n in ("table", "robot", "gripper") if np.any(labels == label_of(n))]
     cloud = PointCloud(points, colour_pts.normals, labels, colour_pts.colors, colour_pts.camera)
-    return PixelLabels(cloud, tuple(seen), dict(fit.openings), fit.present, tracks)
+    return PixelLabels(cloud, tuple(seen), openings, cabinet, tracks, unexplained)
 
 
-__all__ = ["PixelLabels", "ViewClouds", "colour_cloud", "label_pixels"]
+__all__ = ["PixelLabels", "ViewClouds", "colour_cloud", "finish_labels", "gripper_mask",
+           "label_pixels", "object_tracks"]
