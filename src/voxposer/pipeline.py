@@ -40,8 +40,12 @@ from voxposer.robot import Robot
 #: segmentation channel, or colour and depth pixels only
 #: (:class:`~voxposer.perception.colour_depth.ColourDepthPerceiver`); "-noisy": the same on
 #: views with a consumer RGB-D camera's errors (:mod:`voxposer.perception.sensor_noise`; for
-#: ground truth, corrupted masks too).
-PERCEPTIONS: Final = ("ground-truth", "colour-depth", "ground-truth-noisy", "colour-depth-noisy")
+#: ground truth, corrupted masks too); "colour-depth-tracked": the pixel perception carrying
+#: its labels between detections (:mod:`voxposer.perception.label_tracking`, its defaults).
+PERCEPTIONS: Final = ("ground-truth", "colour-depth", "ground-truth-noisy", "colour-depth-noisy",
+                      "colour-depth-tracked", "colour-depth-tracked-noisy")
+#: the perceptions that carry labels between detections.
+_TRACKED: Final = ("colour-depth-tracked", "colour-depth-tracked-noisy")
 _perception = {"default": "ground-truth"}
 
 
@@ -71,13 +75,16 @@ def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig
     error on, registers those cameras against each other once per episode
     (:class:`~voxposer.perception.view_registration.RegisteredObservationSource`).
     ``tracking``: carry the pixel labels between detections
-    (:mod:`voxposer.perception.label_tracking`; colour-depth perceptions only).
+    (:mod:`voxposer.perception.label_tracking`; colour-depth perceptions only; None: its
+    defaults for the "-tracked" perceptions, none for the others).
 
     Raises:
         ConfigError: an unknown perception, or ``tracking`` for one that does not detect from
             pixels.
     """
-    if tracking is not None and not check_perception(perception).startswith("colour-depth"):
+    if tracking is None and check_perception(perception) in _TRACKED:
+        tracking = LabelTrackingConfig()
+    if tracking is not None and not perception.startswith("colour-depth"):
         raise ConfigError(f"label tracking is for the colour-depth perceptions (they detect from "
                           f"pixels); perception {perception!r} reads the simulator's labels")
     source = world

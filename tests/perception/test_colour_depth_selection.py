@@ -17,7 +17,8 @@ def test_cli_choices_are_the_pipelines() -> None:
     # the CLI adds the learned open-vocabulary perceiver, built from model folders it is given
     assert PERCEPTION_CHOICES == (*PERCEPTIONS, "open-vocab")
     assert PERCEPTIONS == ("ground-truth", "colour-depth", "ground-truth-noisy",
-                           "colour-depth-noisy")
+                           "colour-depth-noisy", "colour-depth-tracked",
+                           "colour-depth-tracked-noisy")
 
 
 def test_unknown_perception_lists_the_choices() -> None:

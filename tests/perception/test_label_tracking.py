@@ -113,5 +113,10 @@ def test_tracking_is_for_the_pixel_perceptions_only(world: TabletopWorld) -> Non
 
     tracked = simulated_perceiver(world, "colour-depth-noisy", tracking=SLOW)
     assert isinstance(tracked, ColourDepthPerceiver) and tracked.tracking is SLOW
+    named = simulated_perceiver(world, "colour-depth-tracked-noisy")
+    assert isinstance(named, ColourDepthPerceiver)
+    assert named.tracking == LabelTrackingConfig()
+    untracked = simulated_perceiver(world, "colour-depth-noisy")
+    assert isinstance(untracked, ColourDepthPerceiver) and untracked.tracking is None
     with pytest.raises(ConfigError, match="'ground-truth' reads the simulator's labels"):
         simulated_perceiver(world, "ground-truth", tracking=SLOW)

@@ -90,7 +90,8 @@ def add_bench_options(p: argparse.ArgumentParser) -> None:
                    help="how objects are found: the simulator's segmentation (ground-truth) or "
                    "RGB-D pixels only (colour-depth); -noisy: on views with a consumer RGB-D "
                    "camera's errors (depth noise, missing depth, calibration; masks too); "
-                   "recorded in every episode")
+                   "-tracked: the pixel labels carried between detections; recorded in every "
+                   "episode")
     p.add_argument("--dynamics", default="heuristic",
                    help="the pushing MPC's dynamics model: heuristic (the paper's: the object "
                    "translates with the push), simulator (each sampled push simulated; slow) or "

@@ -55,7 +55,7 @@ from voxposer.errors import ConfigError, VoxPoserError
 #: ``--perception`` values (:data:`voxposer.pipeline.PERCEPTIONS`; kept here so the CLI's help
 #: needs no simulator import).
 PERCEPTION_CHOICES = ("ground-truth", "colour-depth", "ground-truth-noisy", "colour-depth-noisy",
-                      OPEN_VOCAB)
+                      "colour-depth-tracked", "colour-depth-tracked-noisy", OPEN_VOCAB)
 
 if TYPE_CHECKING:
     from voxposer.envs.layout import SceneLayout
@@ -91,7 +91,8 @@ def add_parser(subparsers: Any) -> argparse.ArgumentParser:
                    help="how objects are found: the simulator's segmentation (ground-truth, "
                    "default) or RGB-D pixels only (colour-depth, default with --frames); -noisy: "
                    "on views with a consumer RGB-D camera's errors (depth noise, missing depth, "
-                   "calibration; masks too); open-vocab: OWLv2 + SAM from --detector/--segmenter")
+                   "calibration; masks too); -tracked: pixel labels carried between "
+                   "detections; open-vocab: OWLv2 + SAM from --detector/--segmenter")
     add_open_vocab_options(p)
     _add_scene_options(p)
     add_frame_options(p)
