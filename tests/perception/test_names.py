@@ -50,3 +50,14 @@ def test_leading_name_is_the_longest_scene_name_the_words_begin_with() -> None:
     assert leading_name("the topmost drawer", names) == "top drawer"  # through the synonyms
     assert leading_name("block that is blue", names) is None
     assert leading_name("bluest block", names) is None
+
+
+def test_normalising_is_the_same_for_a_name_asked_again_or_given_as_another_type() -> None:
+    import numpy as np
+
+    from voxposer.perception.names import normalize_name
+
+    first = normalize_name("The  Grey_Cube")
+    assert first == "gray block" and normalize_name("The  Grey_Cube") == first
+    assert normalize_name(np.str_("the grey cube")) == first  # numpy strings, as str()
+    assert normalize_name(["grey cube"]) == "['gray block']"  # unhashable: normalised as str()

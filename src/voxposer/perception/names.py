@@ -7,6 +7,7 @@ perception's ``detect``, scene occupancy's "the entity itself") goes through
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Sequence
 from typing import Final
@@ -25,7 +26,14 @@ _SYNONYMS: Final = {
 
 def normalize_name(name: str) -> str:
     """Lower case, single spaces, no article/possessive, synonyms replaced."""
-    key = re.sub(r"[\s_]+", " ", str(name)).strip().lower()
+    return _normalized(str(name))
+
+
+@functools.lru_cache(maxsize=4096)
+def _normalized(name: str) -> str:
+    """:func:`normalize_name` of a string, remembered: every replan matches the scene's names
+    against each query again (some hundred names a step, each a few dozen regex passes)."""
+    key = re.sub(r"[\s_]+", " ", name).strip().lower()
     key = re.sub(r"^(the|a|an) ", "", key).replace("'s", "")
     for word, canon in _SYNONYMS.items():
         key = re.sub(rf"\b{re.escape(word)}\b", canon, key)
