@@ -137,3 +137,35 @@ def test_the_mpc_chooses_through_the_dynamics_model_it_is_given() -> None:
     assert heuristic.direction[0] > 0.95
     assert reversed_.direction[0] < -0.95
     assert reversed_.predicted_position[0] > 0.5  # predicted by the model: toward the goal
+
+
+def test_a_push_the_arm_could_not_reach_is_not_chosen_again() -> None:
+    """The arm refused the best push (unreachable): the next choice, with or without a cost map
+    (whose hand-sweep penalty is computed for the best samples only), lies outside the refused
+    cone and still moves the block forward."""
+    grid = VoxelGrid((0, 0, 0), (1, 1, 1))
+    aff = ValueMapAPI(grid).get_empty_affordance_map()
+    aff[tuple(grid.world_to_voxel([0.8, 0.5, 0.025]))] = 1
+    cmap = compose_cost_map(grid, aff, CENTRE)
+    straight = CENTRE + np.linspace(0, 0.3, 31)[:, None] * np.array([1.0, 0, 0])
+    for cost_map in (None, cmap):
+        first = random_shooting(BLOCK, straight, np.random.default_rng(5), cost_map=cost_map)
+        assert first.direction @ [1.0, 0, 0] > 0.99
+        again = random_shooting(BLOCK, straight, np.random.default_rng(5), cost_map=cost_map,
+                                refused=first.direction[None])
+        assert again.direction @ first.direction < np.cos(np.radians(30.0))
+        assert again.predicted_position[0] > CENTRE[0] + 0.01
+        assert again.score < 1.0
+
+
+def test_when_every_push_was_refused_the_best_is_still_chosen() -> None:
+    path = CENTRE + np.linspace(0, 0.2, 21)[:, None] * np.array([1.0, 0, 0])
+    both = np.array([[1.0, 0, 0], [-1.0, 0, 0]])
+    action = random_shooting(BLOCK, path, np.random.default_rng(1), axis=np.array([1.0, 0, 0]),
+                             refused=both)
+    np.testing.assert_allclose(action.direction, [1, 0, 0])
+
+
+def test_a_bad_refusal_angle_is_refused_naming_it() -> None:
+    with pytest.raises(ConfigError, match=r"refused_angle_deg.*\[0, 180\].*200"):
+        PushConfig(refused_angle_deg=200.0)

@@ -65,6 +65,7 @@ def run_object(
     previous: NDArray[np.float64] | None = None
     previous_left = 0.0
     stuck = 0
+    refused: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = []  # (centre, direction)
     for _ in range(cfg.max_pushes):
         t0 = time.perf_counter()
         perceiver.point_cloud()  # observe and fuse (timed as "observe")
@@ -105,6 +106,7 @@ def run_object(
             axis=axis,
             config=cfg.push,
             model=_model_for(loop.push_model, sliding=axis is not None),
+            refused=_refused_here(refused, centre),
         )
         if axis is not None:  # a part: push at its centre height, no farther than needed
             action = action._replace(
@@ -119,6 +121,7 @@ def run_object(
             # the arm did not move: not a push that failed to make progress (max_pushes caps it)
             log.info("push unreachable (%s); sampling another", err)
             previous = None
+            refused.append((centre, np.asarray(action.direction, dtype=np.float64)))
         if loop.timed_out(result):
             return loop.finish(
                 result,
@@ -128,6 +131,18 @@ def run_object(
     return loop.finish(
         result, "stalled", f"{cfg.max_pushes} pushes did not bring {name} to the target"
     )
+
+
+#: a refused push counts while the object is within this distance [m] of where it was refused.
+REFUSED_RADIUS_M = 0.02
+
+
+def _refused_here(refused: list[tuple[NDArray[np.float64], NDArray[np.float64]]],
+                  centre: NDArray[np.float64]) -> NDArray[np.float64] | None:
+    """The directions (shape (R, 3)) of the pushes the arm could not reach with the object
+    within :data:`REFUSED_RADIUS_M` of ``centre`` [m]; None when there are none."""
+    here = [d for c, d in refused if np.linalg.norm((c - centre)[:2]) <= REFUSED_RADIUS_M]
+    return np.asarray(here) if here else None
 
 
 def _model_for(model: DynamicsModel | None, *, sliding: bool) -> DynamicsModel | None:

@@ -23,6 +23,9 @@ from voxposer.planning.push_primitive import PushAction, PushConfig, footprint
 from voxposer.planning.trajectory import resample
 from voxposer.valuemaps.cost import CostMap
 
+#: score added to a push like one the arm could not reach [m]: above any other sample's.
+_REFUSED = 1e6
+
 
 def lookahead_point(path: NDArray[np.float64], lookahead: float) -> NDArray[np.float64]:
     """The point ``lookahead`` metres along a polyline (its end if shorter)."""
@@ -87,6 +90,7 @@ def random_shooting(
     axis: NDArray[np.float64] | None = None,
     config: PushConfig | None = None,
     model: DynamicsModel | None = None,
+    refused: NDArray[np.float64] | None = None,
 ) -> PushAction:
     """Choose a push that moves the object along ``path`` (random-shooting MPC, one step).
 
@@ -99,6 +103,9 @@ def random_shooting(
         axis: if given (e.g. a drawer's sliding axis), pushes are restricted to ±axis.
         config: MPC parameters.
         model: the dynamics model predictions come from (default: :class:`TranslationPush`).
+        refused: unit push directions the arm could not carry out from here, shape (R, 3):
+            pushes within ``config.refused_angle_deg`` of one are chosen only when no other
+            sample is left.
 
     Raises:
         PlanningError: no object points.
@@ -126,6 +133,9 @@ def random_shooting(
         # whole outline inside an obstacle
         blocked = cost_map.obstacles[vox[:, 0], vox[:, 1], vox[:, 2]]
         score += cfg.collision_weight * prediction.points.shape[1] * blocked
+    if refused is not None and len(refused):
+        near = directions @ np.asarray(refused, dtype=np.float64).reshape(-1, 3).T
+        score = score + _REFUSED * (near.max(axis=1) >= np.cos(np.radians(cfg.refused_angle_deg)))
     along = np.zeros(n, dtype=bool)
     if cost_map is not None and axis is None:  # parts are pushed hand-first, not top-down
         score, along = add_hand_sweep(score, contacts, directions, distances, side, cost_map, cfg)

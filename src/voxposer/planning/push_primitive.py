@@ -43,6 +43,9 @@ class PushConfig:
             stroke [m].
         along_penalty_m: extra cost of pushing with the hand's long axis along the push (narrow
             finger contact, the block turns more easily) instead of across it (flat contact) [m].
+        refused_angle_deg: a push within this angle [deg] of one the arm could not reach from
+            about the same place is not chosen again while another is left (the MPC kept
+            choosing the same unreachable push until the push budget ran out).
     """
 
     n_samples: int = 10_000
@@ -58,6 +61,7 @@ class PushConfig:
     hand_underside_m: float = 0.027
     tool_collision_weight: float = 0.05
     along_penalty_m: float = 0.02
+    refused_angle_deg: float = 30.0
 
     def __post_init__(self) -> None:
         if self.n_samples < 1:
@@ -67,6 +71,9 @@ class PushConfig:
                 "PushConfig needs 0 < min_distance_m <= max_distance_m; got "
                 f"{self.min_distance_m!r}, {self.max_distance_m!r}"
             )
+        if not 0 <= self.refused_angle_deg <= 180:
+            raise ConfigError(f"PushConfig.refused_angle_deg must be in [0, 180] [deg]; got "
+                              f"{self.refused_angle_deg!r}")
         if self.lookahead_m <= 0 or not 0 <= self.lateral_fraction <= 1:
             raise ConfigError(
                 f"PushConfig.lookahead_m must be > 0 and lateral_fraction in [0, 1]; got "
