@@ -82,13 +82,14 @@ def simulated_perceiver(world: Any, perception: str, *, noise: SensorNoiseConfig
         ConfigError: an unknown perception, or ``tracking`` for one that does not detect from
             pixels.
     """
-    if tracking is None and check_perception(perception) in _TRACKED:
+    check_perception(perception)
+    if tracking is None and perception in _TRACKED:
         tracking = LabelTrackingConfig()
     if tracking is not None and not perception.startswith("colour-depth"):
         raise ConfigError(f"label tracking is for the colour-depth perceptions (they detect from "
                           f"pixels); perception {perception!r} reads the simulator's labels")
     source = world
-    if check_perception(perception).endswith("-noisy"):
+    if perception.endswith("-noisy"):
         config = noise or SensorNoiseConfig()
         if perception.startswith("colour-depth"):
             config = replace(config, mask_corruption=False)

@@ -104,12 +104,11 @@ def carry_labels(previous: PointCloud, points: NDArray[np.float64], colours: NDA
     looked up in the voxels within ``reach`` per axis (nearer offsets first) — only blocks and
     lines move while tracking holds, so only they are followed; :data:`NO_OBJECT` elsewhere."""
     was = previous.labels
-    keep = np.flatnonzero(was >= 0)
-    keep = keep[_WANTED[was[keep]] != _NOT_CARRIED]
+    keep = np.flatnonzero(_is_carried(was))
     volume = np.full(int(np.prod(grid.shape)), NO_OBJECT, dtype=np.int16)
-    volume[_flat(_voxels(previous.points[keep], grid), grid)] = was[keep]
+    volume[_flat(grid.world_to_voxel(previous.points[keep], clip=True), grid)] = was[keep]
     labels = np.full(len(points), NO_OBJECT, dtype=np.int32)
-    now = _voxels(points, grid)
+    now = grid.world_to_voxel(points, clip=True)
     got = volume[_flat(now, grid)]
     hit = np.flatnonzero(got >= 0)
     hit = hit[_fits(got[hit], colours[hit])]
@@ -117,7 +116,7 @@ def carry_labels(previous: PointCloud, points: NDArray[np.float64], colours: NDA
     moves = keep[_WANTED[was[keep]] >= 0]  # blocks and lines
     if reach == 0 or len(moves) == 0:
         return labels
-    moved = _voxels(previous.points[moves], grid)
+    moved = grid.world_to_voxel(previous.points[moves], clip=True)
     low, high = moved.min(axis=0) - reach, moved.max(axis=0) + reach
     follow = np.flatnonzero(np.isin(colours, np.unique(_WANTED[was[moves]])))
     follow = follow[(labels[follow] == NO_OBJECT)
@@ -135,17 +134,14 @@ def carry_labels(previous: PointCloud, points: NDArray[np.float64], colours: NDA
     return labels
 
 
-def _voxels(points: NDArray[np.float64], grid: VoxelGrid) -> NDArray[np.int64]:
-    """Voxel indices (shape (N, 3)) of world points [m] (shape (N, 3)), clipped to ``grid``
-    (:meth:`VoxelGrid.world_to_voxel` without its checks: the points are the cloud's own)."""
-    idx = ((points - grid.bounds_min) / grid.resolution).astype(np.int64)
-    return np.clip(idx, 0, np.asarray(grid.shape) - 1, out=idx)
+def _flat(voxels: NDArray[np.int64], grid: VoxelGrid) -> NDArray[np.intp]:
+    """Flat indices of voxel indices (shape (N, 3), inside ``grid``) into its C-ordered array."""
+    return np.ravel_multi_index(tuple(voxels.T), grid.shape)
 
 
-def _flat(voxels: NDArray[np.int64], grid: VoxelGrid) -> NDArray[np.int64]:
-    """Flat indices of voxel indices (shape (N, 3)) into ``grid``'s C-ordered array."""
-    ny, nz = grid.shape[1], grid.shape[2]
-    return (voxels[:, 0] * ny + voxels[:, 1]) * nz + voxels[:, 2]
+def _is_carried(labels: NDArray[np.integer]) -> NDArray[np.bool_]:
+    """Whether each label (shape (N,); -1: none) is one that is carried (:data:`_CARRIED`)."""
+    return (labels >= 0) & (_WANTED[np.maximum(labels, 0)] != _NOT_CARRIED)
 
 
 def _fits(labels: NDArray[np.integer], colours: NDArray[np.int32]) -> NDArray[np.bool_]:
@@ -155,8 +151,8 @@ def _fits(labels: NDArray[np.integer], colours: NDArray[np.int32]) -> NDArray[np
     return np.where(wanted == _ANY_HUE, colours != GRAY, wanted == colours)
 
 
-def _carried(was: PointCloud, now: PointCloud, kept: list[int], grid: VoxelGrid,
-             reach: int) -> NDArray[np.int32]:
+def _carry_or_copy(was: PointCloud, now: PointCloud, kept: list[int], grid: VoxelGrid,
+                   reach: int) -> NDArray[np.int32]:
     """:func:`carry_labels` of ``now`` from ``was``; the points of the cameras in ``kept``
     (whose frame is the one ``was`` was made of: the same points in the same order) copy their
     carried labels instead."""
@@ -166,8 +162,7 @@ def _carried(was: PointCloud, now: PointCloud, kept: list[int], grid: VoxelGrid,
         there, here = was.camera == k, now.camera == k
         if np.count_nonzero(there) == np.count_nonzero(here):
             old = was.labels[there]
-            labels[here] = np.where((old >= 0) & (_WANTED[np.maximum(old, 0)] != _NOT_CARRIED),
-                                    old, NO_OBJECT)
+            labels[here] = np.where(_is_carried(old), old, NO_OBJECT)
             todo &= ~here
     if todo.all():
         return carry_labels(was, now.points, now.labels, grid, reach)
@@ -192,7 +187,7 @@ def track_labels(obs: Observation, grid: VoxelGrid, previous: PixelLabels,
             if views is not None and k in views and views[k][0] is view]
     colour_pts = colour_cloud(obs, grid, views)
     points, colours = colour_pts.points, colour_pts.labels
-    labels = _carried(was, colour_pts, kept, grid, config.reach_voxels)
+    labels = _carry_or_copy(was, colour_pts, kept, grid, config.reach_voxels)
     gray = np.flatnonzero((labels != NO_OBJECT) & (colours == GRAY))
     held = gripper_mask(points[gray], ee, np.asarray(obs.ee_quat, np.float64))
     labels[gray[held]] = NO_OBJECT
@@ -201,11 +196,10 @@ def track_labels(obs: Observation, grid: VoxelGrid, previous: PixelLabels,
     for k in _CARRIED:
         if counts_was[k] and counts_now[k] < config.keep_fraction * counts_was[k]:
             return None
-    found = {catalog.OBJECTS[k].name: np.flatnonzero(labels == k)
-             for k in _CARRIED if counts_now[k]}
-    seen = list(found)
-    tracks = {**previous.tracks, **object_tracks(points, {
-        n: idx for n, idx in found.items() if catalog.object_named(n).kind in ("block", "line")})}
+    seen = [catalog.OBJECTS[k].name for k in _CARRIED if counts_now[k]]
+    moving = {catalog.OBJECTS[k].name: np.flatnonzero(labels == k)  # blocks and lines
+              for k in _CARRIED if counts_now[k] and _CARRIED[k] >= 0}
+    tracks = {**previous.tracks, **object_tracks(points, moving)}
     out = finish_labels(colour_pts, labels, seen, obs, dict(previous.openings),
                         previous.cabinet, tracks)
     if out.unexplained > baseline_unexplained + config.unexplained_margin:
