@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from voxposer.catalog import NO_OBJECT
 from voxposer.envs import SceneLayout, TabletopWorld, WorldConfig
 from voxposer.envs.config import CameraConfig
 from voxposer.errors import ConfigError
@@ -85,3 +86,30 @@ def test_a_view_kept_is_not_lifted_again_and_the_cloud_is_the_same() -> None:
 def test_a_bad_frame_rate_is_refused(bad: float) -> None:
     with pytest.raises(ConfigError, match=r"CameraConfig\.frame_hz must be a positive finite"):
         CameraConfig(frame_hz=bad)
+
+
+def test_pixels_without_labels_are_those_of_both_passes_and_labels_are_rendered_when_asked(
+) -> None:
+    """``labels=False`` reads the depth with the colour (one pass): the same colour and depth
+    as the two passes, no label ids; held frames serve it, not a later labelled ask."""
+    worlds = [_world(None), _world(2.5)]
+    try:
+        for world in worlds:
+            world.reset(np.random.default_rng(0), SceneLayout(blocks=("blue", "green")))
+        both = worlds[0].observe(rgb=True)
+        pixels = worlds[1].observe(labels=False)
+        for a, b in zip(both.cameras, pixels.cameras, strict=True):
+            np.testing.assert_array_equal(a.rgb, b.rgb)
+            np.testing.assert_array_equal(a.depth, b.depth)  # inf where nothing is in range
+            assert np.isfinite(a.depth).mean() > 0.5
+            assert (b.object_ids == NO_OBJECT).all() and (a.object_ids != NO_OBJECT).any()
+        world = worlds[1]
+        assert world.observe(rgb=True, labels=False) is pixels
+        labelled = world.observe()
+        assert all(a is not b for a, b in zip(labelled.cameras, pixels.cameras, strict=True))
+        assert all((f.object_ids != NO_OBJECT).any() for f in labelled.cameras)
+        assert world.observe(labels=False) is labelled  # holds more than asked
+        assert world.observe(rgb=False) is labelled
+    finally:
+        for world in worlds:
+            world.close()

@@ -177,7 +177,7 @@ class _Clock:
         self.time = 0.0
         self._obs = _obs(time=0.0)
 
-    def observe(self, *, rgb: bool = True) -> Observation:
+    def observe(self, *, rgb: bool = True, labels: bool = True) -> Observation:
         if self._obs.time != self.time:
             self._obs = _obs(time=self.time)
         return self._obs
@@ -279,7 +279,7 @@ class _Streaming:
     def renew(self, name: str) -> None:
         self.frames[name] = replace(self.frames[name])
 
-    def observe(self, *, rgb: bool = True) -> Observation:
+    def observe(self, *, rgb: bool = True, labels: bool = True) -> Observation:
         if self._obs.time != self.time:
             self.frames["a"] = replace(self.frames["a"])
             self._obs = _obs(*self.frames.values(), time=self.time)

@@ -65,7 +65,7 @@ class _Replay:
         self.observations = observations
         self.object_names = ("table",)
 
-    def observe(self, *, rgb: bool = True) -> Observation:
+    def observe(self, *, rgb: bool = True, labels: bool = True) -> Observation:
         return self.observations.pop(0)
 
 

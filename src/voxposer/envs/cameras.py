@@ -104,12 +104,14 @@ class CameraRenderer:
         return depth
 
     def render(self, data: mujoco.MjData, camera: str, width: int, height: int,
-               *, segmentation: bool = True, colour: bool = True) -> CameraFrame:
+               *, segmentation: bool = True, colour: bool = True, depth: bool = True
+               ) -> CameraFrame:
         """Render ``camera`` (a name from the model, e.g. ``"front_left_camera"``).
 
-        With ``segmentation=False`` only the colour pass runs (depth, ids are left empty); with
-        ``colour=False`` only the depth/segmentation pass runs (``rgb`` is black) — what
-        closed-loop replanning needs, at about half the cost.
+        With ``segmentation=False`` only the colour pass runs, its depth read with the colour
+        (the same depth as the segmentation pass's; ``depth=False``: left empty) and the ids
+        left empty — what a perception from pixels needs, at about half the cost of both
+        passes; with ``colour=False`` only the depth/segmentation pass runs (``rgb`` is black).
         """
         if self._gl is None:
             raise RuntimeError("CameraRenderer.render called after close()")
@@ -130,14 +132,19 @@ class CameraRenderer:
         flags[mujoco.mjtRndFlag.mjRND_SHADOW] = self.shadows
         flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = False
         flags[mujoco.mjtRndFlag.mjRND_SKYBOX] = False
+        metric = np.full((height, width), np.inf, dtype=np.float32)
         if colour or not segmentation:
             rgb = np.empty((height, width, 3), dtype=np.uint8)
+            zbuf = np.empty((height, width), dtype=np.float32) if depth and not segmentation \
+                else None
             mujoco.mjr_render(rect, scn, self._con)
-            mujoco.mjr_readPixels(rgb, None, rect, self._con)
+            mujoco.mjr_readPixels(rgb, zbuf, rect, self._con)
             rgb = np.ascontiguousarray(rgb[::-1])
+            if zbuf is not None:
+                metric = self._metric_depth(zbuf[::-1])
+                metric[zbuf[::-1] <= 0] = np.inf  # nothing drawn (reverse-Z clears to 0)
         else:
             rgb = np.zeros((height, width, 3), dtype=np.uint8)
-        depth = np.full((height, width), np.inf, dtype=np.float32)
         seg = np.full((height, width, 2), -1, dtype=np.int32)
         ids = np.full((height, width), NO_OBJECT, dtype=np.int32)
         if segmentation:
@@ -156,15 +163,15 @@ class CameraRenderer:
                 if g.segid != -1:
                     lut[g.segid + 1] = (g.objid, g.objtype)
             seg = lut[np.minimum(segid, scn.ngeom)]
-            depth = self._metric_depth(zbuf[::-1])
+            metric = self._metric_depth(zbuf[::-1])
             is_geom = seg[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM)
             ids = np.where(is_geom, self._labels[np.where(is_geom, seg[..., 0], -1)], NO_OBJECT)
             ids = ids.astype(np.int32)
-            depth[segid == 0] = np.inf
+            metric[segid == 0] = np.inf
         return CameraFrame(
             name=camera.removesuffix("_camera"),
             rgb=rgb,
-            depth=depth,
+            depth=metric,
             intrinsics=intrinsics_matrix(width, height, float(self._model.cam_fovy[cam_id])),
             extrinsics=self.extrinsics(data, cam_id),
             object_ids=ids,

@@ -48,7 +48,7 @@ class CameraViewsMixin(ArmStateMixin):
     config: _WorldSettings
     _renderer: CameraRenderer | None
     _obs: Observation | None
-    _obs_key: tuple[float, int, int, bool] | None
+    _obs_key: tuple[float, int, int, bool, bool] | None
 
     def _geom_label_ids(self) -> NDArray[np.int32]:
         """Label id of every geom, shape (ngeom,), indexing :meth:`_label_names`; -1 for none."""
@@ -77,54 +77,64 @@ class CameraViewsMixin(ArmStateMixin):
         cams = self.config.cameras
         frame = self._camera_renderer().render(
             self.data, f"{camera.removesuffix('_camera')}_camera", width or cams.width,
-            height or cams.height, segmentation=False)
+            height or cams.height, segmentation=False, depth=False)
         return frame.rgb
 
     def observe(self, width: int | None = None, height: int | None = None, *,
-                rgb: bool = True) -> Observation:
+                rgb: bool = True, labels: bool = True) -> Observation:
         """All camera views (RGB, depth [m], intrinsics, extrinsics, ground-truth label ids)
         and the robot's state. Cached until the state changes.
 
         ``rgb=False`` skips the colour pass (images are black): enough for planning and
-        detection, about half the rendering time. An RGB observation also serves
-        later ``rgb=False`` requests at the same instant.
+        detection from the label ids, about half the rendering time. ``labels=False`` skips
+        the ground-truth segmentation pass instead (ids all -1, depth read with the colour):
+        what a perception from pixels needs, also about half. An observation also serves later
+        requests at the same instant that ask for no more than it holds.
         """
         cams = self.config.cameras
         w, h = width or cams.width, height or cams.height
         key = (float(self.data.time), w, h)
-        if self._obs is not None and self._obs_key is not None and self._obs_key[:3] == key and (
-                self._obs_key[3] or not rgb):
+        old = self._obs_key
+        if self._obs is not None and old is not None and old[:3] == key and (
+                old[3] or not rgb) and (old[4] or not labels):
             return self._obs
-        frames = tuple(self._latest_frame(k, name, w, h, rgb)
+        if not labels:  # the colour pass renders the depth (and the colour with it)
+            rgb = True
+        frames = tuple(self._latest_frame(k, name, w, h, rgb, labels)
                        for k, name in enumerate(cams.names))
         pos, quat = self.get_ee_pose()
         self._obs = Observation(time=float(self.data.time), cameras=frames, ee_position=pos,
                                 ee_quat=quat, gripper=self._gripper,
                                 label_names=self._label_names())
-        self._obs_key = (*key, rgb)
+        self._obs_key = (*key, rgb, labels)
         return self._obs
 
     def _latest_frame(self, index: int, name: str, width: int, height: int,
-                      rgb: bool) -> CameraFrame:
+                      rgb: bool, labels: bool) -> CameraFrame:
         """Camera ``name``'s (the ``index``-th camera's) frame for an observation now: without a
         frame rate a new one; with one, its last frame while no new frame is due (same image
-        size, colour when asked), else a new one."""
+        size, colour and labels when asked), else a new one."""
         cams = self.config.cameras
-        render = self._camera_renderer().render
+        camera = f"{name}_camera"
+
+        def render() -> CameraFrame:
+            return self._camera_renderer().render(self.data, camera, width, height, colour=rgb,
+                                                  segmentation=labels)
+
         if cams.frame_hz is None:
-            return render(self.data, f"{name}_camera", width, height, colour=rgb)
+            return render()
         now = float(self.data.time)
-        held: dict[str, tuple[float, tuple[int, int, bool], CameraFrame]] = (
+        held: dict[str, tuple[float, tuple[int, int, bool, bool], CameraFrame]] = (
             self.__dict__.setdefault("_camera_frames", {}))
         last = held.get(name)
         if last is not None:
-            when, (w, h, colour), frame = last
+            when, (w, h, colour, labelled), frame = last
             slots = (_frame_slot(t, cams.frame_hz, index, len(cams.names)) for t in (when, now))
             if when <= now and len(set(slots)) == 1 and (w, h) == (width, height) and (
-                    colour or not rgb):
+                    colour or not rgb) and (labelled or not labels):
                 return frame
-        frame = render(self.data, f"{name}_camera", width, height, colour=rgb)
-        held[name] = (now, (width, height, rgb), frame)
+        frame = render()
+        held[name] = (now, (width, height, rgb, labels), frame)
         return frame
 
     def close(self) -> None:

@@ -60,7 +60,7 @@ class TabletopWorld(SensingMixin, SteppedPhysicsMixin, DisturbanceMixin, ArmCont
         self._bind_arm()
         self._renderer = None
         self._obs = None
-        self._obs_key: tuple[float, int, int, bool] | None = None
+        self._obs_key: tuple[float, int, int, bool, bool] | None = None
         self._rng = np.random.default_rng(0)
         self._gripper = 0.0
         self._unstable = False

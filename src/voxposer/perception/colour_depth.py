@@ -50,7 +50,8 @@ class ColourDepthPerceiver:
     pixels (colour segmentation, depth clustering, a cabinet fit); weight-free.
 
     Args:
-        source: what observes the scene; asked for colour (``observe(rgb=True)``).
+        source: what observes the scene; asked for colour and no label ids
+            (``observe(rgb=True, labels=False)``).
         grid: the workspace grid; the fused cloud is cropped to it.
         tracking: between full detections, carry the labels of the last cloud to the new one
             (:mod:`voxposer.perception.label_tracking`: a detection at least every
@@ -93,7 +94,7 @@ class ColourDepthPerceiver:
         return tuple(n for n in _LABEL_NAMES if n in self._known)
 
     def observe(self) -> Observation:
-        obs = self.source.observe(rgb=True)
+        obs = self.source.observe(rgb=True, labels=False)  # pixels only: no label ids
         if obs is not self._obs:
             self._obs, self._labels, self._detections = obs, None, {}
         return obs

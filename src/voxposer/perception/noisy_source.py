@@ -66,11 +66,11 @@ class NoisyObservationSource:
     def object_names(self) -> tuple[str, ...]:
         return tuple(self.source.object_names)
 
-    def observe(self, *, rgb: bool = True) -> Observation:
+    def observe(self, *, rgb: bool = True, labels: bool = True) -> Observation:
         """``source``'s current observation with noise; the same object while ``source``
         serves the same one. Colour is always observed when dark-surface dropout is on (it
         decides which pixels lose depth)."""
-        raw = self.source.observe(rgb=rgb or self.config.dark_dropout)
+        raw = self.source.observe(rgb=rgb or self.config.dark_dropout, labels=labels)
         if raw is self._raw and self._noisy is not None:
             return self._noisy
         if self._last_time is not None and raw.time < self._last_time:

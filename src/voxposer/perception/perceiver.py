@@ -28,8 +28,9 @@ class ObservationSource(Protocol):
         """Canonical names of the objects in the scene (what may be detected)."""
         ...
 
-    def observe(self, *, rgb: bool = True) -> Observation:
-        """The current views and robot state (``rgb=False``: colour may be skipped)."""
+    def observe(self, *, rgb: bool = True, labels: bool = True) -> Observation:
+        """The current views and robot state (``rgb=False``: colour may be skipped;
+        ``labels=False``: a simulator's ground-truth label ids may be skipped)."""
         ...
 
 

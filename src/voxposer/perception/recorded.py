@@ -75,5 +75,5 @@ class RecordedObservations:
     def object_names(self) -> tuple[str, ...]:
         return self._names
 
-    def observe(self, *, rgb: bool = True) -> Observation:
+    def observe(self, *, rgb: bool = True, labels: bool = True) -> Observation:
         return self.observation

@@ -65,11 +65,11 @@ class RegisteredObservationSource:
     def object_names(self) -> tuple[str, ...]:
         return tuple(self.source.object_names)
 
-    def observe(self, *, rgb: bool = True) -> Observation:
+    def observe(self, *, rgb: bool = True, labels: bool = True) -> Observation:
         """``source``'s current observation, its extrinsics corrected; the same object while
         ``source`` serves the same one, and a camera's frame the same object while ``source``'s
         is (fusion reuses the points of a camera whose next frame is not due)."""
-        raw = self.source.observe(rgb=rgb)
+        raw = self.source.observe(rgb=rgb, labels=labels)
         if raw is self._raw and self._served is not None:
             return self._served
         if self._last_time is None or raw.time < self._last_time \

@@ -75,7 +75,7 @@ class ArticulatedWorld(CameraViewsMixin, SteppedPhysicsMixin, ArmControlMixin):
         self._mocap = int(self.model.body_mocapid[self.model.body(self.object.base_body).id])
         self._renderer: CameraRenderer | None = None
         self._obs: Observation | None = None
-        self._obs_key: tuple[float, int, int, bool] | None = None
+        self._obs_key: tuple[float, int, int, bool, bool] | None = None
         self._rng = np.random.default_rng(0)
         self._gripper = 0.0
         self._unstable = False

@@ -133,7 +133,7 @@ class OpenVocabPerceiver:
         return tuple(inst.name for inst in self.instances)
 
     def observe(self) -> Observation:
-        obs = self.source.observe(rgb=True)
+        obs = self.source.observe(rgb=True, labels=False)  # pixels only: no label ids
         if obs is not self._obs:
             self._obs, self._cloud, self._detections = obs, None, {}
         return obs
