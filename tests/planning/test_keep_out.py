@@ -60,6 +60,9 @@ def test_a_target_inside_the_core_falls_back_to_the_soft_cost() -> None:
     aff, avoid = _maps(radius_m=0.2, around=GOAL)  # asked to go where it must stay away from
     plan = PathPlanner(GRID).plan(aff, START, avoidance_map=avoid)
     assert plan.reached and plan.cost_map.config.avoidance_keep_out == 0.0
+    assert plan.relaxed
+    kept = PathPlanner(GRID).plan(*_maps()[:1], START, avoidance_map=_maps()[1])
+    assert not kept.relaxed
 
 
 def test_a_sliding_object_stays_in_its_layer() -> None:

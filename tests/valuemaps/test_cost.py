@@ -189,3 +189,24 @@ def test_the_soft_fallback_map_equals_composing_without_the_core() -> None:
     assert np.array_equal(fallback.obstacles, soft.obstacles)
     assert np.array_equal(fallback.cost, soft.cost)
     assert fallback.config == soft.config
+
+
+def test_off_limits_voxels_are_obstacles_cleared_at_the_start_and_kept_by_the_fallback() -> None:
+    grid = VoxelGrid((0, 0, 0), (1, 1, 1), (40, 40, 40))
+    aff = np.zeros(grid.shape, dtype=np.float32)
+    aff[35, 20, 20] = 1.0
+    start = grid.voxel_to_world([5, 20, 20])
+    off = np.zeros(grid.shape, dtype=bool)
+    off[:10] = True  # the start's side, start included
+    off[20] = True  # a wall across the way
+    cmap = compose_cost_map(grid, aff, start, off_limits=off)
+    coarse = cmap.grid.world_to_voxel
+    assert cmap.obstacles[tuple(coarse(grid.voxel_to_world([20, 5, 30])))]
+    assert not cmap.obstacles[tuple(coarse(start))], "cleared around the start"
+    assert cmap.obstacles[tuple(coarse(grid.voxel_to_world([1, 35, 5])))]
+    plain = compose_cost_map(grid, aff, start)
+    assert not plain.obstacles.any()
+    again = without_keep_out(cmap)
+    np.testing.assert_array_equal(again.obstacles, cmap.obstacles)
+    with pytest.raises(OutOfWorkspaceError, match=r"off_limits has shape \(3, 3\)"):
+        compose_cost_map(grid, aff, start, off_limits=np.zeros((3, 3), dtype=bool))

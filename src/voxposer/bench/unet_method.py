@@ -198,15 +198,16 @@ class PredictedCostPlanner(PathPlanner):
              occupancy: NDArray[np.bool_] | None = None,
              entity_occupancy: NDArray[np.bool_] | None = None,
              current_quat: ArrayLike = TOP_DOWN_QUAT, current_gripper: float = 0.0,
-             layer_z: float | None = None) -> Plan:
+             layer_z: float | None = None, off_limits: NDArray[np.bool_] | None = None) -> Plan:
         """Plan from ``start`` [m], shape (3,), on the predicted cost (obstacles from
-        ``occupancy``, the entity's own voxels and ``layer_z`` as :meth:`PathPlanner.plan`)."""
+        ``occupancy``, the entity's own voxels, ``layer_z`` and ``off_limits`` as
+        :meth:`PathPlanner.plan`)."""
         from voxposer.unet.predict import predict_cost_map
 
         cmap = predict_cost_map(self.checkpoint, self.observe_cloud(), self.instruction,
                                 grid=self.grid, start=start, occupancy=occupancy,
                                 config=self.config.cost, entity_occupancy=entity_occupancy,
-                                layer_z=layer_z)
+                                layer_z=layer_z, off_limits=off_limits)
         closed = None
         if self.close_at_target:
             closed = np.zeros(self.grid.shape, dtype=np.float32)

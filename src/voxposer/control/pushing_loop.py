@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
 from voxposer.control.execution_result import ExecutionResult, MapSource, StopReason, evaluate
-from voxposer.control.table_layer import onto_layer
+from voxposer.control.table_layer import beyond_push_reach, onto_layer
 from voxposer.errors import PlanningError, UnreachablePoseError
 from voxposer.geometry.frames import TOP_DOWN_QUAT, pointat2quat
 from voxposer.perception.perceiver import Perceiver
@@ -159,7 +159,10 @@ def _plan_object(loop: LoopHost, name: str, entity: Any, values: dict[str, Any],
     the table are no obstacles); a free object's path stays at its height, its target brought
     there (:mod:`voxposer.control.table_layer`). A sliding part's has no obstacles: what lies
     ahead of a drawer's handle is its own cabinet, and with noisy depth the cabinet's unlabelled
-    edge points lie over the handle, turning its path (and the push) away from the target."""
+    edge points lie over the handle, turning its path (and the push) away from the target.
+    A free object's path keeps within the pushing reach of the robot's base
+    (:func:`~voxposer.control.table_layer.beyond_push_reach`) where that leaves a path that
+    also keeps out of the avoidance map's core."""
     centre = np.asarray(entity["position"], dtype=np.float64)
     affordance = values["affordance_map"]
     layer = None if sliding else float(centre[2])
@@ -167,14 +170,23 @@ def _plan_object(loop: LoopHost, name: str, entity: Any, values: dict[str, Any],
         affordance = onto_layer(loop.perceiver.grid, affordance, layer)
     occupancy = None if sliding else loop.perceiver.scene_occupancy(
         name, holding=False, ignore_table=True)
-    return loop.object_planner.plan(
-        affordance,
-        centre,
-        avoidance_map=values["avoidance_map"],
-        occupancy=occupancy,
-        entity_occupancy=entity["occupancy"],
-        layer_z=layer,
-    )
+
+    def plan(off_limits: NDArray[np.bool_] | None) -> Any:
+        return loop.object_planner.plan(
+            affordance, centre, avoidance_map=values["avoidance_map"], occupancy=occupancy,
+            entity_occupancy=entity["occupancy"], layer_z=layer, off_limits=off_limits)
+
+    reach = loop.config.push_reach_m
+    if sliding or reach[1] <= 0:
+        return plan(None)
+    try:  # within the pushing reach where that leaves a path around what is avoided
+        kept = plan(beyond_push_reach(loop.perceiver.grid, loop.robot.base_position, reach))
+    except PlanningError:
+        return plan(None)
+    if not getattr(kept, "relaxed", False):
+        return kept
+    free = plan(None)  # the reach gives way before the avoidance map's core does
+    return kept if getattr(free, "relaxed", False) else free
 
 
 def _path_left(positions: NDArray[np.float64]) -> float:

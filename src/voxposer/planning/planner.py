@@ -39,6 +39,8 @@ class Plan:
         path_cost: objective value of ``voxel_path`` (see :mod:`voxposer.planning.search`).
         method: ``"global"`` or ``"greedy"``.
         timings_ms: wall time per stage [ms]: postprocess, search, trajectory, total.
+        relaxed: the avoidance map's core left no path, so the path kept to its soft cost
+            only (:func:`~voxposer.valuemaps.cost.without_keep_out`).
     """
 
     trajectory: Trajectory
@@ -48,6 +50,7 @@ class Plan:
     path_cost: float
     method: PlanMethod
     timings_ms: dict[str, float]
+    relaxed: bool = False
 
     @property
     def target(self) -> NDArray[np.float64]:
@@ -76,6 +79,7 @@ class PathPlanner:
         current_quat: ArrayLike = TOP_DOWN_QUAT,
         current_gripper: float = 0.0,
         layer_z: float | None = None,
+        off_limits: NDArray[np.bool_] | None = None,
     ) -> Plan:
         """Plan from ``start`` [m] to the affordance target.
 
@@ -89,6 +93,8 @@ class PathPlanner:
             current_gripper: gripper state used where no gripper map is given.
             layer_z: keep the path in the planning layer at this height [m] (an object that
                 slides on the table); None: anywhere in the workspace.
+            off_limits: voxels the path may not enter although nothing is there, shape
+                ``grid.shape`` (see :func:`~voxposer.valuemaps.cost.compose_cost_map`).
 
         Raises:
             InvalidMapError, EmptyAffordanceError, OutOfWorkspaceError: bad maps or start.
@@ -103,9 +109,13 @@ class PathPlanner:
                 cost_cfg, downsample=1, gaussian_truncate=4.0, obstacles_as_avoidance=True
             )
         cmap, search, t1 = self._compose_and_search(
-            affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg, layer_z)
-        return self._finish(cmap, search, (t0, t1), rotation_map, velocity_map, gripper_map,
+            affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg, layer_z,
+            off_limits)
+        plan = self._finish(cmap, search, (t0, t1), rotation_map, velocity_map, gripper_map,
                             current_quat, current_gripper)
+        if cmap.config.avoidance_keep_out < cost_cfg.avoidance_keep_out:
+            plan = replace(plan, relaxed=True)
+        return plan
 
     def plan_on_cost(
         self,
@@ -178,13 +188,13 @@ class PathPlanner:
     def _compose_and_search(
         self, affordance_map: NDArray, start: ArrayLike, avoidance_map: NDArray | None,
         occupancy: NDArray[np.bool_] | None, entity_occupancy: NDArray[np.bool_] | None,
-        cost_cfg: CostMapConfig, layer_z: float | None,
+        cost_cfg: CostMapConfig, layer_z: float | None, off_limits: NDArray[np.bool_] | None,
     ) -> tuple[CostMap, tuple[NDArray[np.int64], float, bool], float]:
         """(cost map, its path search, the time the first map was composed): with the avoidance
         map's core kept out, or — when that leaves no path — with the soft avoidance cost only."""
         cmap = compose_cost_map(
             self.grid, affordance_map, start, avoidance_map, occupancy, entity_occupancy, cost_cfg,
-            layer_z=layer_z)
+            layer_z=layer_z, off_limits=off_limits)
         t1 = time.perf_counter()
         try:
             return cmap, self._find_path(cmap), t1

@@ -55,7 +55,8 @@ def predict_cost_map(checkpoint: Checkpoint | Path, observation: Any, instructio
                      config: CostMapConfig | None = None,
                      target_tolerance: float = 0.01,
                      entity_occupancy: NDArray[np.bool_] | None = None,
-                     layer_z: float | None = None) -> CostMap:
+                     layer_z: float | None = None,
+                     off_limits: NDArray[np.bool_] | None = None) -> CostMap:
     """The planner's cost map for ``instruction`` in the observed scene, from the U-Net.
 
     Args:
@@ -72,6 +73,8 @@ def predict_cost_map(checkpoint: Checkpoint | Path, observation: Any, instructio
         entity_occupancy: the moving entity's own voxels on ``grid`` (not obstacles).
         layer_z: an object sliding on the table at this height [m]: the target is the lowest
             cost within its planning layer, and the path stays in that layer (None: anywhere).
+        off_limits: voxels the path may not enter, shape ``grid.shape`` (as
+            :func:`~voxposer.valuemaps.cost.compose_cost_map`; the target is chosen anywhere).
     """
     cfg = config or CostMapConfig()
     coarse = grid.coarsen(cfg.downsample)
@@ -94,7 +97,8 @@ def predict_cost_map(checkpoint: Checkpoint | Path, observation: Any, instructio
         :grid.shape[0], :grid.shape[1], :grid.shape[2]]
     base = compose_cost_map(grid, fine.astype(np.float32), start, occupancy=occupancy,
                             entity_occupancy=entity_occupancy,
-                            config=replace(cfg, avoidance_keep_out=0.0), layer_z=layer_z)
+                            config=replace(cfg, avoidance_keep_out=0.0), layer_z=layer_z,
+                            off_limits=off_limits)
     residual = np.clip(cost - cfg.affordance_weight * base.affordance_cost, 0, None)
     avoidance = (residual / cfg.avoidance_weight if cfg.avoidance_weight > 0
                  else np.zeros_like(residual))

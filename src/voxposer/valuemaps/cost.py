@@ -98,6 +98,8 @@ class CostMap:
         target_distance: distance to the nearest target [coarse voxels], shape ``grid.shape``.
         target_mask: coarse target voxels, shape ``grid.shape``.
         obstacles: coarse obstacle voxels after clearing, shape ``grid.shape``.
+        off_limits: coarse voxels put off limits by the caller (part of ``obstacles``), shape
+            ``grid.shape``, or None.
         fine_obstacles: fine obstacle voxels after clearing (without the margin), shape
             ``fine_grid.shape``.
         fine_targets: fine target voxel indices, shape (T, 3).
@@ -116,6 +118,7 @@ class CostMap:
     fine_targets: NDArray[np.int64]
     start: NDArray[np.float64]
     config: CostMapConfig
+    off_limits: NDArray[np.bool_] | None = None
 
 
 def compose_cost_map(
@@ -128,6 +131,7 @@ def compose_cost_map(
     config: CostMapConfig | None = None,
     *,
     layer_z: float | None = None,
+    off_limits: NDArray[np.bool_] | None = None,
 ) -> CostMap:
     """Build the planner's cost map from value maps and scene occupancy.
 
@@ -142,6 +146,9 @@ def compose_cost_map(
         config: parameters; paper defaults when None.
         layer_z: if given, every planning voxel outside the layer at this height [m] is an
             obstacle (an object sliding on the table stays at its height).
+        off_limits: voxels the path may not enter although the scene is free there (e.g. where
+            a pushed object could no longer be pushed back), shape ``grid.shape``; a planning
+            voxel is off limits when any of its voxels is. None = none.
 
     Raises:
         InvalidMapError: a map with the wrong shape, dtype or NaN/inf values.
@@ -175,11 +182,12 @@ def compose_cost_map(
     if cfg.avoidance_weight > 0:
         cost += cfg.avoidance_weight * avoidance_cost
 
+    limits = None if off_limits is None else pool_max(_off_limits(off_limits, grid), f)
     obstacles = planning_obstacles(
         grid, coarse, fine_obstacles, fine_targets, start_m, avoid, layer_z,
         downsample=f, margin_cm=cfg.obstacle_margin_cm, entity_clear_cm=cfg.entity_clear_radius_cm,
         target_clear_cm=cfg.target_clear_radius_cm, keep_out_fraction=cfg.avoidance_keep_out,
-        pooled_avoid=pooled)
+        pooled_avoid=pooled, off_limits=limits)
     obstacles &= ~target_mask
     return CostMap(
         grid=coarse,
@@ -194,6 +202,7 @@ def compose_cost_map(
         fine_targets=fine_targets,
         start=start_m,
         config=cfg,
+        off_limits=limits,
     )
 
 
@@ -206,7 +215,7 @@ def without_keep_out(cmap: CostMap, layer_z: float | None = None) -> CostMap:
         cmap.fine_grid, cmap.grid, cmap.fine_obstacles, cmap.fine_targets, cmap.start, None,
         layer_z, downsample=cfg.downsample, margin_cm=cfg.obstacle_margin_cm,
         entity_clear_cm=cfg.entity_clear_radius_cm, target_clear_cm=cfg.target_clear_radius_cm,
-        keep_out_fraction=0.0)
+        keep_out_fraction=0.0, off_limits=cmap.off_limits)
     obstacles &= ~cmap.target_mask
     return replace(cmap, obstacles=obstacles, config=cfg)
 
@@ -225,6 +234,18 @@ def _fine_targets(aff: NDArray, grid: VoxelGrid, threshold: float) -> NDArray[np
         )
     flat = np.flatnonzero(aff.reshape(-1) >= peak * threshold)
     return np.stack(np.unravel_index(flat, grid.shape), axis=1).astype(np.int64)
+
+
+def _off_limits(mask: NDArray, grid: VoxelGrid) -> NDArray[np.bool_]:
+    """``mask`` as a boolean array of shape ``grid.shape``.
+
+    Raises:
+        OutOfWorkspaceError: another shape (names both).
+    """
+    arr = np.asarray(mask, dtype=bool)
+    if arr.shape != grid.shape:
+        raise OutOfWorkspaceError(f"off_limits has shape {arr.shape}; expected {grid.shape}")
+    return arr
 
 
 def _non_negative(values: NDArray[np.floating]) -> NDArray[np.floating]:
