@@ -34,6 +34,18 @@ class ExecutorConfig:
             top-down hand reaches ~0.80 m at push height and stands ~8 cm beyond the object to
             push it back toward the base; within ~0.25 m of the base it is crowded against the
             arm (:func:`~voxposer.control.table_layer.beyond_push_reach`). (0, 0): no limit.
+        carry_radius_m: an object whose centre is this close to the closed hand is carried, not
+            pushed [m].
+        carry_min_opening_m: … if the closed fingers are at least this far apart (closed on
+            something) [m].
+        hand_floor_m: the bare hand's targets are at least this high above the table's top
+            [m]: the finger pads touch it with the grasp centre ~1.4 cm above it, and a hand
+            sent to a point on the table (a place named without a height) then drags on it and
+            stalls short (0: targets left where they are).
+        ee_planner: planner parameters when the end effector is the entity (a straightened
+            segment of the hand's path also comes no nearer what it avoids:
+            ``shortcut_keeps_distance``).
+        object_planner: planner parameters when an object or part is the entity.
         push: random-shooting MPC parameters.
     """
 
