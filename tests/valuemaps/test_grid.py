@@ -124,3 +124,15 @@ def test_coarsen_keeps_box_and_covers_whole_fine_voxels(grid: VoxelGrid) -> None
     odd = VoxelGrid((0, 0, 0), (0.99, 0.99, 0.99), (99, 99, 99)).coarsen(2)
     assert odd.shape == (50, 50, 50)
     np.testing.assert_allclose(odd.resolution, [0.02, 0.02, 0.02])
+
+
+def test_flat_voxels_are_the_raveled_clipped_voxels(grid: VoxelGrid) -> None:
+    rng = np.random.default_rng(3)
+    pts = rng.uniform(grid.bounds_min - 0.3, grid.bounds_max + 0.3, size=(20000, 3))
+    pts[:3] = [grid.bounds_min, grid.bounds_max, grid.bounds_min + grid.resolution]  # edges
+    expected = np.ravel_multi_index(tuple(grid.world_to_voxel(pts, clip=True).T), grid.shape)
+    np.testing.assert_array_equal(grid.flat_voxels(pts), expected)
+    assert grid.flat_voxels(np.zeros((0, 3))).shape == (0,)
+    pts[7, 1] = np.nan
+    with pytest.raises(OutOfWorkspaceError, match="finite"):
+        grid.flat_voxels(pts)

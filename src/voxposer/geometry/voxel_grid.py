@@ -245,6 +245,23 @@ class VoxelGrid:
                      np.asarray(self.shape, dtype=np.int64), occ)
         return occ
 
+    def flat_voxels(self, points: ArrayLike) -> NDArray[np.int64]:
+        """Flat (C-order) indices into an array of shape ``self.shape``, shape (N,), of the
+        voxels of world points [m], shape (N, 3), each moved to the nearest boundary cell when
+        outside: ``np.ravel_multi_index`` of ``world_to_voxel(points, clip=True)``, in one
+        compiled pass without temporaries.
+
+        Raises:
+            OutOfWorkspaceError: a point is not finite.
+        """
+        p = np.ascontiguousarray(np.asarray(points, dtype=np.float64).reshape(-1, 3))
+        out = np.empty(len(p), dtype=np.int64)
+        if not _flat_voxels(p, np.asarray(self.bounds_min, dtype=np.float64),
+                            np.asarray(self.resolution, dtype=np.float64),
+                            np.asarray(self.shape, dtype=np.int64), out):
+            raise OutOfWorkspaceError("points must be finite; got NaN or inf")
+        return out
+
     def coarsen(self, factor: int) -> VoxelGrid:
         """The same box cut into ``ceil(shape / factor)`` voxels (used for fast planning).
 
@@ -272,3 +289,22 @@ def _mark_points(points: np.ndarray, lo: np.ndarray, res: np.ndarray, shape: np.
                 and sz >= 0.0 and sz <= shape[2]):
             occ[min(int(sx), shape[0] - 1), min(int(sy), shape[1] - 1),
                 min(int(sz), shape[2] - 1)] = True
+
+
+@numba.njit(cache=True, nogil=True)
+def _flat_voxels(points: np.ndarray, lo: np.ndarray, res: np.ndarray, shape: np.ndarray,
+                 out: np.ndarray) -> bool:  # pragma: no cover - compiled
+    """Write the clipped voxel's flat index of every point (N, 3) [m] into ``out`` (N,), as
+    ``floor((p - lo) / res)`` clipped to ``[0, shape - 1]`` per axis; False (stopping) at the
+    first point that is not finite."""
+    for n in range(points.shape[0]):
+        flat = 0
+        for a in range(3):
+            s = (points[n, a] - lo[a]) / res[a]
+            if not np.isfinite(s):
+                return False
+            k = int(np.floor(s))
+            k = min(max(k, 0), shape[a] - 1)
+            flat = flat * shape[a] + k
+        out[n] = flat
+    return True

@@ -106,10 +106,10 @@ def carry_labels(previous: PointCloud, points: NDArray[np.float64], colours: NDA
     was = previous.labels
     keep = np.flatnonzero(_is_carried(was))
     volume = np.full(int(np.prod(grid.shape)), NO_OBJECT, dtype=np.int16)
-    volume[_flat(grid.world_to_voxel(previous.points[keep], clip=True), grid)] = was[keep]
+    volume[grid.flat_voxels(previous.points[keep])] = was[keep]
     labels = np.full(len(points), NO_OBJECT, dtype=np.int32)
-    now = grid.world_to_voxel(points, clip=True)
-    got = volume[_flat(now, grid)]
+    flat = grid.flat_voxels(points)
+    got = volume[flat]
     hit = np.flatnonzero(got >= 0)
     hit = hit[_fits(got[hit], colours[hit])]
     labels[hit] = got[hit]
@@ -119,8 +119,10 @@ def carry_labels(previous: PointCloud, points: NDArray[np.float64], colours: NDA
     moved = grid.world_to_voxel(previous.points[moves], clip=True)
     low, high = moved.min(axis=0) - reach, moved.max(axis=0) + reach
     follow = np.flatnonzero(np.isin(colours, np.unique(_WANTED[was[moves]])))
-    follow = follow[(labels[follow] == NO_OBJECT)
-                    & np.all((now[follow] >= low) & (now[follow] <= high), axis=1)]
+    follow = follow[labels[follow] == NO_OBJECT]
+    now = np.full((len(points), 3), -1, dtype=np.int64)  # voxel indices, of those followed only
+    now[follow] = np.stack(np.unravel_index(flat[follow], grid.shape), axis=1)
+    follow = follow[np.all((now[follow] >= low) & (now[follow] <= high), axis=1)]
     offsets = sorted(np.ndindex(*(2 * reach + 1,) * 3),
                      key=lambda o: sum((c - reach) ** 2 for c in o))
     top = np.asarray(grid.shape) - 1
