@@ -141,8 +141,9 @@ class CameraRenderer:
             mujoco.mjr_readPixels(rgb, zbuf, rect, self._con)
             rgb = np.ascontiguousarray(rgb[::-1])
             if zbuf is not None:
-                metric = self._metric_depth(zbuf[::-1])
-                metric[zbuf[::-1] <= 0] = np.inf  # nothing drawn (reverse-Z clears to 0)
+                zbuf = zbuf[::-1]
+                metric = self._metric_depth(zbuf)
+                metric[zbuf <= 0] = np.inf  # nothing drawn (reverse-Z clears to 0)
         else:
             rgb = np.zeros((height, width, 3), dtype=np.uint8)
         seg = np.full((height, width, 2), -1, dtype=np.int32)

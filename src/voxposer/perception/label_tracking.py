@@ -120,19 +120,19 @@ def carry_labels(previous: PointCloud, points: NDArray[np.float64], colours: NDA
     low, high = moved.min(axis=0) - reach, moved.max(axis=0) + reach
     follow = np.flatnonzero(np.isin(colours, np.unique(_WANTED[was[moves]])))
     follow = follow[labels[follow] == NO_OBJECT]
-    now = np.full((len(points), 3), -1, dtype=np.int64)  # voxel indices, of those followed only
-    now[follow] = np.stack(np.unravel_index(flat[follow], grid.shape), axis=1)
-    follow = follow[np.all((now[follow] >= low) & (now[follow] <= high), axis=1)]
+    near = np.stack(np.unravel_index(flat[follow], grid.shape), axis=1)  # their voxels
+    inside = np.all((near >= low) & (near <= high), axis=1)
+    follow, near = follow[inside], near[inside]
     offsets = sorted(np.ndindex(*(2 * reach + 1,) * 3),
                      key=lambda o: sum((c - reach) ** 2 for c in o))
     top = np.asarray(grid.shape) - 1
     for offset in offsets[1:]:
-        follow = follow[labels[follow] == NO_OBJECT]
         if len(follow) == 0:
             break
-        got = volume[_flat(np.clip(now[follow] + np.asarray(offset) - reach, 0, top), grid)]
+        got = volume[_flat(np.clip(near + np.asarray(offset) - reach, 0, top), grid)]
         ok = (got >= 0) & (_WANTED[np.maximum(got, 0)] == colours[follow])
         labels[follow[ok]] = got[ok]
+        follow, near = follow[~ok], near[~ok]  # the points still unlabelled
     return labels
 
 
