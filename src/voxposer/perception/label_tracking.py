@@ -7,8 +7,7 @@ centimetre. As the paper's pipeline detects once and lets a video tracker (XMem)
 :func:`track_labels` carries each object's label from the last labelled cloud to the new one: a
 new point takes the label of the last cloud's object point in its voxel of the workspace grid,
 or in one beside it (``reach_voxels``), when its colour word fits that object (a block or a line:
-its own colour; a cabinet part: any hue but gray). Gray points around the gripper are never
-carried (the gray robot touches what it holds). The table, the robot and the gripper are then
+its own colour; a cabinet part: any hue but gray). The table, the robot and the gripper are then
 labelled as after a detection (:func:`~voxposer.perception.pixel_labels.finish_labels`).
 
 Tracking gives up (returns None: the caller detects afresh) when
@@ -18,7 +17,11 @@ Tracking gives up (returns None: the caller detects afresh) when
 * more points of a chromatic colour are left unexplained than at the last detection, by more
   than ``unexplained_margin`` (an object came into view, or moved beyond reach);
 * the end effector is within ``near_cabinet_m`` of a cabinet part (it may be moving a drawer,
-  whose opening only the cabinet fit measures).
+  whose opening only the cabinet fit measures);
+* a point carried as a gray object (the gray block or line) lies around the gripper: the gray
+  gripper's points beside it would be taken for it, or the object's own points dropped as the
+  gripper's, a few at each step, until its centre is off (only the detection's track of it, the
+  colour-cluster geometry, parts the two).
 
 How often the caller detects anyway (``redetect_s``) is its own rule
 (:class:`~voxposer.perception.colour_depth.ColourDepthPerceiver`).
@@ -191,8 +194,8 @@ def track_labels(obs: Observation, grid: VoxelGrid, previous: PixelLabels,
     points, colours = colour_pts.points, colour_pts.labels
     labels = _carry_or_copy(was, colour_pts, kept, grid, config.reach_voxels)
     gray = np.flatnonzero((labels != NO_OBJECT) & (colours == GRAY))
-    held = gripper_mask(points[gray], ee, np.asarray(obs.ee_quat, np.float64))
-    labels[gray[held]] = NO_OBJECT
+    if gripper_mask(points[gray], ee, np.asarray(obs.ee_quat, np.float64)).any():
+        return None  # a gray object among the gray gripper's points: only detection parts them
     counts_was = np.bincount(was.labels[was.labels >= 0], minlength=len(catalog.OBJECTS))
     counts_now = np.bincount(labels[labels >= 0], minlength=len(catalog.OBJECTS))
     for k in _CARRIED:
