@@ -1,11 +1,13 @@
 """The pixel perception's hard cases: a gray block touching the gray robot (tracked from where
-it was), a block on its own colour's noisy line (told apart by height), and a noisy table
+it was), a block on its own colour's noisy line (told apart by height), a noisy line's stretch (no
+block of its colour), and a noisy table
 inside the box of an absent cabinet (not a cabinet)."""
 
 from __future__ import annotations
 
 import numpy as np
 
+from voxposer.catalog import COLOR_NAMES
 from voxposer.perception.cabinet_fit import fit_cabinet
 from voxposer.perception.colour_names import GRAY
 from voxposer.perception.colour_objects import find_blocks_and_lines, line_prior
@@ -49,6 +51,23 @@ def test_a_block_on_its_own_colours_noisy_line_is_still_a_block() -> None:
     assert np.linalg.norm(got[:, :2].mean(axis=0)) < 0.01 and np.ptp(got[:, 1]) < 0.07
     line_pts = points[found["green line"]]
     assert np.ptp(line_pts[:, 1]) > 0.12  # the line's two ends, either side of the block
+
+
+def test_a_stretch_of_noisy_line_is_no_block_of_its_colour() -> None:
+    """A green block cuts a yellow line in two; the depth noise lifts either piece's paint
+    above the flat band, each piece compact: still one line and no yellow block."""
+    rng = np.random.default_rng(4)
+    block = _cube((0.005, 0.0, 0.025), rng)
+    x = rng.uniform(-0.1, 0.1, 1200)
+    x = x[np.abs(x - 0.005) > 0.03]  # under the green block: hidden
+    line = np.column_stack([x, rng.uniform(-0.006, 0.006, len(x)),
+                            0.002 + np.abs(rng.normal(0.0, 0.004, len(x)))])
+    points = np.vstack([block, line])
+    colours = np.r_[np.full(len(block), COLOR_NAMES.index("green")),
+                    np.full(len(line), COLOR_NAMES.index("yellow"))].astype(np.int32)
+    found = find_blocks_and_lines(points, colours)
+    assert sorted(found) == ["green block", "yellow line"]
+    assert np.ptp(points[found["yellow line"]][:, 0]) > 0.18  # both pieces, end to end
 
 
 def test_a_block_far_from_its_prior_is_not_made_up() -> None:

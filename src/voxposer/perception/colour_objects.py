@@ -3,7 +3,8 @@ colour word, told apart by shape.
 
 A line is flat on the table (its paint is 2 mm thick); a block is a compact 5 cm cube, resting
 on the table or carried. For each colour word: the points raised above the table cluster into
-the block (the largest compact cluster, with touching fragments), the block's flat points just
+the block (the largest compact cluster that stands above a line's noisy paint, with touching
+fragments), the block's flat points just
 above the table stay with it, and the remaining flat points are the line (all its fragments: an
 object lying across a line cuts it in two). A gray block is the one compact achromatic cluster
 that is not part of the (equally gray) robot; a gray line a thin flat achromatic strip. When the
@@ -36,6 +37,11 @@ CORE_Z_M: Final = 0.02
 BLOCK_MAX_EXTENT_M: Final = 0.09
 #: Fewest points of a block's main cluster and of any line fragment.
 MIN_BLOCK_POINTS: Final = 20
+#: Fewest points above :data:`CORE_Z_M` in a block's main cluster: a block stands 5 cm tall,
+#: while a stretch of line whose paint the depth noise lifts above :data:`FLAT_Z_M` is as
+#: compact but stays below it (without this, such a stretch was found as a block of the
+#: line's colour and cut from the line).
+MIN_CORE_POINTS: Final = 5
 MIN_LINE_POINTS: Final = 8
 #: Fragments this close [m] to a block's main cluster are part of it.
 FRAGMENT_GAP_M: Final = 0.02
@@ -96,8 +102,9 @@ def _block_members(points: NDArray[np.float64], raised: NDArray[np.bool_], gray:
 
 def _compact_cluster(points: NDArray[np.float64], subset: NDArray[np.bool_], gray: bool
                      ) -> NDArray[np.bool_]:
-    """The largest compact (for ``gray`` also broad) cluster of ``points[subset]`` with the
-    fragments that touch it and keep it compact, as a mask over ``points`` (empty: none)."""
+    """The largest compact and tall (:data:`MIN_CORE_POINTS`; for ``gray`` also broad)
+    cluster of ``points[subset]`` with the fragments that touch it and keep it compact, as a
+    mask over ``points`` (empty: none)."""
     members = np.zeros(len(points), dtype=bool)
     idx = np.flatnonzero(subset)
     clusters = cluster_points(points[idx])
@@ -107,7 +114,8 @@ def _compact_cluster(points: NDArray[np.float64], subset: NDArray[np.bool_], gra
             break
         pts = points[idx[clusters.labels == k]]
         broad = not gray or bool(np.all(np.ptp(pts[:, :2], axis=0) >= GRAY_MIN_SPAN_M))
-        if _compact(pts) and broad:
+        tall = np.count_nonzero(pts[:, 2] >= CORE_Z_M) >= MIN_CORE_POINTS
+        if _compact(pts) and broad and tall:
             main = k
             break
     if main is None:
