@@ -311,3 +311,19 @@ def test_programs_add_object_entries() -> None:
     progs = Programs().add("composer", "q", "x = parse_query_obj('blue block')")
     lmps = {(e["lmp"], e["query"]) for e in progs.entries()}
     assert ("parse_query_obj", "blue block") in lmps
+
+
+def test_staying_away_starts_and_ends_clear_of_the_obstacle(world) -> None:
+    """The obstacle halfway along the push: the block starts, and its place lies, beyond the
+    check's clearance by START_CLEAR_M (a start at 9.2 cm bound the check by where the block
+    stood; dev seeds 19 UA and 9 SA before the layout kept this)."""
+    from voxposer.bench.tasks.push_avoid_obstacle import START_CLEAR_M
+
+    task = get_task("push_to_pos_avoid_obstacle")
+    for split in ("seen", "unseen"):
+        for seed in range(20):
+            attrs = reset_episode(task, world, split, seed).attributes
+            obstacle = world.object_position(attrs["obstacle"])[:2]
+            start = np.linalg.norm(world.object_position(attrs["obj"])[:2] - obstacle)
+            end = np.linalg.norm(np.asarray(get_place(attrs["pos"]).point) - obstacle)
+            assert min(start, end) >= TOL.obstacle_clearance_m + START_CLEAR_M, (split, seed)

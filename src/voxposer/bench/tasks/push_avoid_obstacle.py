@@ -2,7 +2,10 @@
 
 [obstacle] takes its values from the block list (App. A.5 gives no separate list). Reset: as
 "push the [obj] to the [pos]", with the obstacle block on the straight push, its centre at most
-2 cm off the middle of it (``OBSTACLE_OFFSET_M``). Success: the block ends at the place, its
+2 cm off the middle of it (``OBSTACLE_OFFSET_M``); the push is long enough that the block starts
+and ends at least ``START_CLEAR_M`` beyond the clearance from the obstacle (a start 9.2–9.7 cm
+from it, when the check asks 9, left the check bound by where the block stood, not by the path
+around: dev seeds 19 UA and 9 SA passed it at 8.7–8.9 cm with correct perception). Success: the block ends at the place, its
 centre stays at least ``obstacle_clearance_m`` (9 cm, 4 cm between the faces) from the
 obstacle's centre the whole time, and the obstacle moves at most ``moved_max_m``.
 
@@ -36,6 +39,9 @@ from voxposer.places import Place, get_place
 
 #: how far the obstacle's centre sits off the middle of the straight push [m].
 OBSTACLE_OFFSET_M = (0.0, 0.02)
+#: The block starts (and its place lies) at least this far [m] beyond
+#: ``Tolerances.obstacle_clearance_m`` from the obstacle's centre.
+START_CLEAR_M = 0.03
 #: The baseline's detour: the block is pushed sideways this far off the straight push, along it
 #: past the obstacle, and back onto the place [m]; on the side whose waypoints lie farther
 #: inside this range of distances from the robot's base [m] (the hand reaches the table there).
@@ -57,7 +63,9 @@ class PushAvoidObstacle(BenchTask):
 
     def layout(self, rng: np.random.Generator, attrs: dict[str, str]) -> SceneLayout:
         target = get_place(attrs["pos"]).point
-        start = push_start(rng, get_place(attrs["pos"]), Tolerances())
+        tol = Tolerances()
+        shortest = 2 * (tol.obstacle_clearance_m + START_CLEAR_M)  # the obstacle halfway
+        start = push_start(rng, get_place(attrs["pos"]), tol, min_length_m=shortest)
         half = 0.5 * float(np.hypot(target[0] - start[0], target[1] - start[1]))
         side = 1.0 if rng.uniform() < 0.5 else -1.0
         obstacle = toward(start, target, half, side * float(rng.uniform(*OBSTACLE_OFFSET_M)))

@@ -27,11 +27,14 @@ START_OUTSIDE_M = 0.10
 START_WITHIN_M = 0.40
 
 
-def push_start(rng: np.random.Generator, place: Place, tol: Tolerances) -> tuple[float, float]:
-    """A start (x, y) [m] for a block to be pushed to ``place``."""
+def push_start(rng: np.random.Generator, place: Place, tol: Tolerances,
+               min_length_m: float = 0.0) -> tuple[float, float]:
+    """A start (x, y) [m] for a block to be pushed to ``place``, at least ``min_length_m`` [m]
+    from its point."""
     def ok(xy: np.ndarray) -> bool:
+        length = np.hypot(*(xy - np.asarray(place.point)))
         return bool(place.margin(xy, tol.corner_radius_m) <= -START_OUTSIDE_M
-                    and np.hypot(*(xy - np.asarray(place.point))) <= START_WITHIN_M)
+                    and min_length_m <= length <= START_WITHIN_M)
     return sample_xy(rng, START_LO, START_HI, ok)
 
 
