@@ -165,6 +165,17 @@ def test_pool_max_is_the_block_maximum(shape, factor) -> None:
     assert np.array_equal(pool_max(vol > 0.5, factor), expected > 0.5)
 
 
+@pytest.mark.parametrize("shape", [(100, 100, 100), (7, 1, 5), (3, 4, 0)])
+def test_nonzero_voxels_is_argwhere(shape) -> None:
+    from voxposer.valuemaps.voxel_ops import nonzero_voxels
+
+    values = np.random.default_rng(2).uniform(size=shape).astype(np.float32)
+    for mask in (values > 0.999, values > 2.0, values >= 0.0, values):
+        got, want = nonzero_voxels(mask), np.argwhere(mask)
+        assert got.dtype == want.dtype and got.shape == want.shape
+        np.testing.assert_array_equal(got, want)
+
+
 def test_keep_out_from_the_pooled_map_equals_pooling_the_core() -> None:
     rng = np.random.default_rng(4)
     avoid = rng.random(GRID.shape).astype(np.float32) ** 4

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from voxposer.geometry.voxel_grid import VoxelGrid
+from voxposer.valuemaps.voxel_ops import nonzero_voxels
 
 
 def _target(grid: VoxelGrid, affordance: NDArray[Any]) -> NDArray[np.float64] | None:
@@ -27,7 +28,7 @@ def _target(grid: VoxelGrid, affordance: NDArray[Any]) -> NDArray[np.float64] | 
     peak = float(arr.max()) if arr.size else 0.0
     if peak <= 0:
         return None
-    return grid.voxel_to_world(np.argwhere(arr >= peak).mean(axis=0))
+    return grid.voxel_to_world(nonzero_voxels(arr >= peak).mean(axis=0))
 
 
 class SelfRelativeAnchor:

@@ -30,6 +30,7 @@ from voxposer.lmp.sides import SideError, direction_sign, parse_side, splits_at_
 from voxposer.perception.names import match_name
 from voxposer.places import TABLE_MAX, TABLE_MIN, Place, place_for_signs
 from voxposer.valuemaps.maps import ValueMapAPI
+from voxposer.valuemaps.voxel_ops import nonzero_voxels
 
 __all__ = ["DEFAULT_OFFSET_CM", "EDGE_INSET", "LMPAPI", "TABLE_MATCH_M", "SideError", "parse_side"]
 
@@ -149,7 +150,7 @@ class LMPAPI:
             raise SideError(f"end_of(..., end={end!r}): end must be 'low' or 'high'")
         lo, hi = o.aabb_world
         k = 0 if hi[0] - lo[0] >= hi[1] - lo[1] else 1
-        cells = np.argwhere(o.occupancy)
+        cells = nonzero_voxels(o.occupancy)
         xy = self.grid.voxel_to_world(cells)[:, :2] if len(cells) >= 3 else None
         centre = o.position_world[:2] if xy is None else xy.mean(axis=0)
         axis = np.eye(2)[k] if xy is None else np.linalg.svd(xy - centre, full_matrices=False)[2][0]

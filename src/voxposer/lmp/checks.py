@@ -20,6 +20,7 @@ from voxposer.lmp.registry import LMPSpec
 from voxposer.lmp.speed_words import same_direction, speed_factor
 from voxposer.perception.names import is_end_effector, leading_name
 from voxposer.valuemaps.maps import check_value_map
+from voxposer.valuemaps.voxel_ops import nonzero_voxels
 
 #: Largest velocity scale accepted (the paper's "3x speed" is the largest in its task list).
 MAX_SPEED_SCALE = 10.0
@@ -96,7 +97,7 @@ def check_execute_target(movable: Any, affordance: Any) -> None:
     aabb = getattr(movable, "aabb", None)
     if affordance is None or aabb is None or is_end_effector(name):
         return
-    targets = np.argwhere(np.asarray(affordance) > 0)
+    targets = nonzero_voxels(np.asarray(affordance) > 0)
     lo, hi = np.asarray(aabb[0]) - 1, np.asarray(aabb[1]) + 1
     if len(targets) and bool(np.all((targets >= lo) & (targets <= hi))):
         raise ResultError(
