@@ -327,3 +327,18 @@ def test_staying_away_starts_and_ends_clear_of_the_obstacle(world) -> None:
             start = np.linalg.norm(world.object_position(attrs["obj"])[:2] - obstacle)
             end = np.linalg.norm(np.asarray(get_place(attrs["pos"]).point) - obstacle)
             assert min(start, end) >= TOL.obstacle_clearance_m + START_CLEAR_M, (split, seed)
+
+
+def test_staying_away_redraws_a_push_too_short(monkeypatch) -> None:
+    """The start sampler falls back to its box's centre when no draw fits; a push from there
+    shorter than the minimum is refused (drawn again), never laid out."""
+    import voxposer.bench.tasks.push_avoid_obstacle as task_module
+    from voxposer.errors import LayoutError
+
+    task = get_task("push_to_pos_avoid_obstacle")
+    attrs = {"obj": "blue block", "obstacle": "red block", "pos": "back left corner of the table"}
+    point = np.asarray(get_place(attrs["pos"]).point)
+    monkeypatch.setattr(task_module, "push_start",
+                        lambda *a, **k: (float(point[0]) + 0.15, float(point[1])))
+    with pytest.raises(LayoutError, match=r"needs at least 0\.24 m"):
+        task.layout(np.random.default_rng(0), attrs)

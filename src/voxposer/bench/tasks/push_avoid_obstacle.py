@@ -35,6 +35,7 @@ from voxposer.bench.tasks._common import block_layout, one_subtask, segment_clea
 from voxposer.bench.tasks.push_to_pos import push_programs, push_start
 from voxposer.bench.trace import Trace
 from voxposer.envs.layout import SceneLayout
+from voxposer.errors import LayoutError
 from voxposer.places import Place, get_place
 
 #: how far the obstacle's centre sits off the middle of the straight push [m].
@@ -67,6 +68,9 @@ class PushAvoidObstacle(BenchTask):
         shortest = 2 * (tol.obstacle_clearance_m + START_CLEAR_M)  # the obstacle halfway
         start = push_start(rng, get_place(attrs["pos"]), tol, min_length_m=shortest)
         half = 0.5 * float(np.hypot(target[0] - start[0], target[1] - start[1]))
+        if 2 * half < shortest:  # the sampler's fallback (its box's centre): draw again
+            raise LayoutError(f"a push of {2 * half:.2f} m to the {attrs['pos']}; staying away "
+                              f"needs at least {shortest:.2f} m")
         side = 1.0 if rng.uniform() < 0.5 else -1.0
         obstacle = toward(start, target, half, side * float(rng.uniform(*OBSTACLE_OFFSET_M)))
         return block_layout({attrs["obj"]: start, attrs["obstacle"]: obstacle})
