@@ -4,18 +4,18 @@ colour word, told apart by shape.
 A line is flat on the table (its paint is 2 mm thick); a block is a compact 5 cm cube, resting
 on the table or carried. For each colour word: the points raised above the table cluster into
 the block (the largest compact cluster that stands above a line's noisy paint, with touching
-fragments), the block's flat points just
-above the table stay with it, and the remaining flat points are the line (all its fragments: an
-object lying across a line cuts it in two). A gray block is the one compact achromatic cluster
-that is not part of the (equally gray) robot; a gray line a thin flat achromatic strip. When the
-gray block touches the robot (the gripper closing on it, pushing it), its points join the
-robot's and no compact cluster is left: then, if the block was found before, it is tracked —
-the raised gray points in a block-sized box around where it was, re-centred on them
-(:data:`TRACK_HALF_M`). Likewise a gray line that joins other flat gray points (a shadow, the
-robot's base) is kept from where it lay (lines do not move): the flat gray points in the strip it
-occupied (:data:`LINE_TRACK_HALF_WIDTH_M`). A gray line found before is looked for there first:
-with a block covering part of it, another thin flat gray strip (30–50 cm away: the robot's base,
-a shadow) outgrew its uncovered fragments and was taken for it (dev records).
+fragments), the block's flat points just above the table stay with it, and the remaining flat
+points are the line (all its fragments: an object lying across a line cuts it in two). A gray
+block is the one compact achromatic cluster that is not part of the (equally gray) robot; a gray
+line a thin flat achromatic strip. When the gray block touches the robot (the gripper closing on
+it, pushing it), its points join the robot's and no compact cluster is left: then, if the block
+was found before, it is tracked — the raised gray points in a block-sized box around where it
+was, re-centred on them (:data:`TRACK_HALF_M`). Likewise a gray line that joins other flat gray
+points (a shadow, the robot's base) is kept from where it lay (lines do not move): the flat gray
+points in the strip it occupied (:data:`LINE_TRACK_HALF_WIDTH_M`). A gray line found before is
+looked for there first: with a block covering part of it, another thin flat gray strip (30–50 cm
+away: the robot's base, a shadow) outgrew its uncovered fragments and was taken for it (dev
+records).
 """
 
 from __future__ import annotations

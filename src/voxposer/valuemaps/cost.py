@@ -26,6 +26,7 @@ from voxposer.valuemaps.obstacles import planning_obstacles, target_representati
 from voxposer.valuemaps.voxel_ops import (
     clear_sphere,
     distance_to,
+    nonzero_voxels,
     normalise,
     pool_max,
     smooth_zero_padded,
@@ -161,7 +162,7 @@ def compose_cost_map(
     if start_m.shape != (3,) or not np.all(np.isfinite(start_m)):
         raise OutOfWorkspaceError(f"start must be a finite 3-vector [m]; got {start!r}")
     grid.world_to_voxel(start_m)  # raises when outside the workspace
-    fine_targets = _fine_targets(aff, grid, cfg.target_threshold)
+    fine_targets = _fine_targets(aff, cfg.target_threshold)
 
     f = cfg.downsample
     coarse = grid.coarsen(f)
@@ -220,7 +221,7 @@ def without_keep_out(cmap: CostMap, layer_z: float | None = None) -> CostMap:
     return replace(cmap, obstacles=obstacles, config=cfg)
 
 
-def _fine_targets(aff: NDArray, grid: VoxelGrid, threshold: float) -> NDArray[np.int64]:
+def _fine_targets(aff: NDArray, threshold: float) -> NDArray[np.int64]:
     """Voxels (i, j, k) of the affordance map at or above ``threshold`` × its peak, shape (N, 3).
 
     Raises:
@@ -232,8 +233,7 @@ def _fine_targets(aff: NDArray, grid: VoxelGrid, threshold: float) -> NDArray[np
             "affordance map has no positive voxel (max value "
             f"{peak:g}); set the target voxels to a value > 0 so something attracts the entity"
         )
-    flat = np.flatnonzero(aff.reshape(-1) >= peak * threshold)
-    return np.stack(np.unravel_index(flat, grid.shape), axis=1).astype(np.int64)
+    return nonzero_voxels(aff >= peak * threshold).astype(np.int64)
 
 
 def _off_limits(mask: NDArray, grid: VoxelGrid) -> NDArray[np.bool_]:

@@ -5,9 +5,10 @@
 2 cm off the middle of it (``OBSTACLE_OFFSET_M``); the push is long enough that the block starts
 and ends at least ``START_CLEAR_M`` beyond the clearance from the obstacle (a start 9.2–9.7 cm
 from it, when the check asks 9, left the check bound by where the block stood, not by the path
-around: dev seeds 19 UA and 9 SA passed it at 8.7–8.9 cm with correct perception). Success: the block ends at the place, its
-centre stays at least ``obstacle_clearance_m`` (9 cm, 4 cm between the faces) from the
-obstacle's centre the whole time, and the obstacle moves at most ``moved_max_m``.
+around: dev seeds 19 UA and 9 SA passed it at 8.7–8.9 cm with correct perception). Success: the
+block ends at the place, its centre stays at least ``obstacle_clearance_m`` (9 cm, 4 cm between
+the faces) from the obstacle's centre the whole time, and the obstacle moves at most
+``moved_max_m``.
 
 Binds (measured on dev seeds 0–7, both splits): a push that ignores the obstacle goes around it
 by the object planner's collision margin alone and keeps 7.4–8.6 cm from it; the reference,
@@ -63,10 +64,11 @@ class PushAvoidObstacle(BenchTask):
         return super().instruction(attrs).replace("away from ", "away from the ")
 
     def layout(self, rng: np.random.Generator, attrs: dict[str, str]) -> SceneLayout:
-        target = get_place(attrs["pos"]).point
+        place = get_place(attrs["pos"])
+        target = place.point
         tol = Tolerances()
         shortest = 2 * (tol.obstacle_clearance_m + START_CLEAR_M)  # the obstacle halfway
-        start = push_start(rng, get_place(attrs["pos"]), tol, min_length_m=shortest)
+        start = push_start(rng, place, tol, min_length_m=shortest)
         half = 0.5 * float(np.hypot(target[0] - start[0], target[1] - start[1]))
         if 2 * half < shortest:  # the sampler's fallback (its box's centre): draw again
             raise LayoutError(f"a push of {2 * half:.2f} m to the {attrs['pos']}; staying away "
