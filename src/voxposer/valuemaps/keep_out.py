@@ -38,7 +38,10 @@ def keep_out(grid: VoxelGrid, avoid: NDArray[np.floating], start: NDArray[np.flo
             any of its fine voxels reaches the level, i.e. when its maximum does.
     """
     coarse_shape = grid.coarsen(downsample).shape
-    top = float(avoid.max()) if avoid.size else 0.0
+    # the block maximum holds the map's maximum (its padding is the map's minimum): 8× fewer
+    # values to read when it is given
+    source = avoid if pooled is None else pooled
+    top = float(source.max()) if source.size else 0.0
     if fraction <= 0 or top <= 0:
         return np.zeros(coarse_shape, dtype=bool)
     level = fraction * top
