@@ -74,5 +74,4 @@ def test_the_stroke_the_retreat_and_the_lift_keep_to_their_straight_lines() -> N
     robot.move_to_pose = recording  # type: ignore[method-assign]
     push(robot, _push_along_x(0.10), sideways=False, object_top=0.05)
     assert asked[0] is None  # the move above the contact, at the travel height
-    assert asked[1] is not None and asked[1] <= 0.06  # the descent may bend, not swing across
     assert all(d is not None and d <= 0.03 for d in asked[2:]) and len(asked) == 5

@@ -97,20 +97,6 @@ def test_hand_lies_across_the_push_unless_that_sweeps_it_through_an_obstacle() -
     assert abs(turned.hand_axis @ turned.direction) > 0.8
 
 
-def test_a_block_whose_top_the_hands_underside_grazes_counts_as_swept() -> None:
-    """A 5 cm block beside the push, its top face in the voxel the hand's underside (5.2 cm)
-    passes through (the grid's voxels start 5 mm below the table, so that voxel spans
-    4.5–5.5 cm): the hand's long end would drag over it, so the hand turns along the push."""
-    grid = VoxelGrid((0, 0, -0.005), (1, 1, 0.995))
-    aff = ValueMapAPI(grid).get_empty_affordance_map()
-    aff[tuple(grid.world_to_voxel([0.8, 0.5, 0.025]))] = 1
-    beside = box_surface_points(np.array([0.525, 0.565, 0.0]), np.array([0.575, 0.615, 0.05]))
-    cmap = compose_cost_map(grid, aff, CENTRE, occupancy=grid.points_to_occupancy(beside))
-    straight = CENTRE + np.linspace(0, 0.3, 31)[:, None] * np.array([1.0, 0, 0])
-    action = random_shooting(BLOCK, straight, np.random.default_rng(4), cost_map=cmap)
-    assert abs(action.hand_axis @ action.direction) > 0.8
-
-
 def test_lazy_hand_sweep_penalty_picks_the_same_push_as_penalising_every_sample() -> None:
     from voxposer.planning.push_clearance import add_hand_sweep
 
