@@ -64,6 +64,9 @@ def main() -> None:
     parser.add_argument("--match", type=int, default=3, help="longest n-gram looked up")
     args = parser.parse_args()
     console = Console(stderr=True)
+    missing = [str(f) for f in args.records if not f.is_file()]
+    if missing:
+        raise SystemExit(f"no such records file: {', '.join(missing)} (give episodes.jsonl files)")
     path = installed_path(default_model_dir())
     if path is None:
         raise SystemExit("the default model is not installed; run the README's setup first")
@@ -82,8 +85,10 @@ def main() -> None:
                 gen = tokens(prog["code"])
                 c, a = decode_calls(prompts[prog["lmp"]] + tokens(prog["query"] + "\n"), gen,
                                     args.draft, args.match)
-                generated, calls, accepted, programs = (generated + len(gen), calls + c,
-                                                        accepted + a, programs + 1)
+                generated += len(gen)
+                calls += c
+                accepted += a
+                programs += 1
     if not generated:
         raise SystemExit("no recorded program with a known prompt in these records")
     console.print(f"{programs} programs, {generated} generated tokens: a draft of {args.draft} "

@@ -233,7 +233,7 @@ def _fine_targets(aff: NDArray, threshold: float) -> NDArray[np.int64]:
             "affordance map has no positive voxel (max value "
             f"{peak:g}); set the target voxels to a value > 0 so something attracts the entity"
         )
-    return nonzero_voxels(aff >= peak * threshold).astype(np.int64)
+    return nonzero_voxels(aff >= peak * threshold).astype(np.int64, copy=False)
 
 
 def _off_limits(mask: NDArray, grid: VoxelGrid) -> NDArray[np.bool_]:

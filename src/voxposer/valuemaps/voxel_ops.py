@@ -33,11 +33,8 @@ def pool_max(volume: NDArray, factor: int) -> NDArray:
         padded[: shape[0], : shape[1], : shape[2]] = volume
         volume = padded
     for axis in range(3):
-        views = []
-        for i in range(factor):
-            index: list[slice] = [slice(None)] * 3
-            index[axis] = slice(i, None, factor)
-            views.append(volume[tuple(index)])
+        lead = (slice(None),) * axis
+        views = [volume[(*lead, slice(i, None, factor))] for i in range(factor)]
         out = np.maximum(views[0], views[1])
         for view in views[2:]:
             np.maximum(out, view, out=out)
