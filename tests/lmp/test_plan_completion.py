@@ -165,6 +165,14 @@ STAY_OBJECTS = ("table", "gripper", "yellow block", "brown block", "blue block")
      "composer('move to the front side of the yellow block')",
      "composer('move to the back side of the table while staying on the front side of the "
      "yellow block')"),
+    # dev records, a third set of extra dev phrasings (ad-hoc seed 309): the clause replaced by
+    # a distance the instruction never says, and a post-condition keeping it
+    ("get to the front right corner of the table without leaving the top of the blue block",
+     "composer('move to the front right corner of the table while staying at least 10cm from "
+     "the blue block')\nexpect(on('gripper', 'table', 'front right corner'), away('gripper', "
+     "'blue block', cm=10))",
+     "composer('move to the front right corner of the table while staying on the top of the "
+     "blue block')\nexpect(on('gripper', 'table', 'front right corner'))"),
 ])
 def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, plan: str,
                                                             expected: str) -> None:
@@ -181,6 +189,11 @@ def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, pl
      "composer('push the blue block to the left')"),
     ("move to the back side of the table", "composer('move to the back side of the table')"),
     ("go to the back side of the table, keeping 9 cm from the blue block",  # carried already
+     "composer('move to the back side of the table while staying at least 9cm from the blue "
+     "block')"),
+    # a distance the instruction says is kept, and the clause then has no motion to go to
+    ("go to the back side of the table 9cm from the blue block without leaving the top of the "
+     "blue block",
      "composer('move to the back side of the table while staying at least 9cm from the blue "
      "block')"),
 ])

@@ -34,11 +34,12 @@ or the hand to 10 cm above the table: :func:`hover_over` says it as the examples
 
 from __future__ import annotations
 
+import ast
 import re
 from typing import Final
 
 from voxposer.lmp.checklist import HAND_MOTION
-from voxposer.lmp.plan_review import plain_steps
+from voxposer.lmp.plan_review import expect_calls, plain_steps
 from voxposer.perception.names import is_end_effector, leading_name
 
 #: the sub-task appended after a final grasp (the planner prompt's own wording).
@@ -163,6 +164,8 @@ def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[s
     obj, words, carried, instead = clause
     if any(carried.search(s.lower()) and obj in s.lower() for s, _, _ in steps):
         return None
+    if carried is STAY_ON:
+        steps = [_without_unasked_distance(step, obj, instruction) for step in steps]
     kept = [st for st in steps if not instead.match(" ".join(st[0].lower().split()))]
     motions = [i for i, (s, _, _) in enumerate(kept)
                if HAND_MOTION.match(s) and obj not in s.lower()]
@@ -174,6 +177,31 @@ def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[s
             line = f"composer({subtask.rstrip(' .') + ' ' + words!r})"
         lines += [line, *expects]
     return "\n".join(lines)
+
+
+def _without_unasked_distance(step: tuple[str, str, list[str]], obj: str, instruction: str
+                              ) -> tuple[str, str, list[str]]:
+    """``step`` (sub-task, line, expect lines) without a distance from ``obj`` the instruction
+    does not say ("… while staying at least 10cm from the blue block" planned for "without
+    leaving the top of the blue block": dev records, ad-hoc seed 309), nor its ``away``
+    post-conditions about ``obj``; unchanged when it has none."""
+    subtask, _line, expects = step
+    tail = re.search(rf"\s*,?\s+(?:while\s+|and\s+)?(?:staying|keeping|remaining|stay|keep)\s+"
+                     rf"(?:at\s+least\s+)?(\d+(?:\.\d+)?)\s*(?:cm|centimet\w*)\s+(?:away\s+)?"
+                     rf"from\s+the\s+{re.escape(obj)}\b", subtask, re.I)
+    if tail is None or tail.group(1) in re.findall(r"\d+(?:\.\d+)?", instruction):
+        return step
+    words = subtask[:tail.start()] + subtask[tail.end():]
+    kept: list[str] = []
+    for e in expects:
+        calls = expect_calls(e)
+        left = [c for c in calls if not (isinstance(c.func, ast.Name) and c.func.id == "away"
+                                         and obj in ast.unparse(c))]
+        if len(left) == len(calls):
+            kept.append(e)
+        elif left:
+            kept.append(f"expect({', '.join(ast.unparse(c) for c in left)})")
+    return words, f"composer({words!r})", kept
 
 
 #: "hover 10cm over the pink block" / "hover over it" in an instruction: (cm or None, words).

@@ -25,6 +25,7 @@ from voxposer.lmp.plan_completion import (
 )
 from voxposer.lmp.plan_conditions import derive_conditions, keep_instruction_speed
 from voxposer.lmp.plan_places import named_places_only
+from voxposer.lmp.plan_speed_near import speed_near_folded
 from voxposer.lmp.plan_zone import zone_not_destination
 from voxposer.lmp.registry import LMPConfig
 
@@ -67,6 +68,9 @@ STEPS: Final[tuple[Step, ...]] = (
     Step("zone_not_destination", _fixed("the speed in the zone, said in the motion to the place",
                                         zone_not_destination),
          "added", "a sub-task went to the table part the instruction says a speed in"),
+    Step("speed_near_folded", _fixed("the speed near the object, said in the hand's motion",
+                                     speed_near_folded),
+         "added", "a sub-task said the speed with no motion of its own"),
     Step("carry_stated_constraints", lambda q, c, n: _listed(carry_stated_constraints(q, c, n)),
          "added", "a post-condition kept a distance or speed the sub-task's words did not"),
     Step("hover_over", _fixed("the hover as the hand's motion", hover_over),

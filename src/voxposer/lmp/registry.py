@@ -104,6 +104,9 @@ class LMPConfig:
         zone_not_destination: a motion to the table part the instruction says a speed in is
             dropped and the speed said in the motion to its place
             (:func:`~voxposer.lmp.plan_zone.zone_not_destination`).
+        speed_near_folded: sub-tasks that say the instruction's speed near an object with no
+            motion of their own are dropped and the speed said in the hand's one motion
+            (:func:`~voxposer.lmp.plan_speed_near.speed_near_folded`).
         push_along_ends: a one-sub-task push of a block along a line becomes the examples'
             pushes to the line's near end, then its far end
             (:func:`~voxposer.lmp.plan_along.push_along_ends`).
@@ -165,6 +168,7 @@ class LMPConfig:
     fold_avoided: bool = True
     named_places_only: bool = True
     zone_not_destination: bool = True
+    speed_near_folded: bool = True
     push_along_ends: bool = True
     drop_final_reset: bool = True
     hover_over: bool = True
