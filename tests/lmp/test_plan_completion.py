@@ -191,9 +191,14 @@ def test_a_dropped_staying_on_clause_is_given_to_the_motion(instruction: str, pl
     ("go to the back side of the table, keeping 9 cm from the blue block",  # carried already
      "composer('move to the back side of the table while staying at least 9cm from the blue "
      "block')"),
-    # a distance the instruction says is kept, and the clause then has no motion to go to
+    # a distance the instruction says is kept (however its number is written), and the
+    # clause then has no motion to go to
     ("go to the back side of the table 9cm from the blue block without leaving the top of the "
      "blue block",
+     "composer('move to the back side of the table while staying at least 9cm from the blue "
+     "block')"),
+    ("go to the back side of the table 9.0cm from the blue block without leaving the top of "
+     "the blue block",
      "composer('move to the back side of the table while staying at least 9cm from the blue "
      "block')"),
 ])

@@ -22,7 +22,10 @@ free object at a place, when no earlier sub-task grasped it, by the examples' ow
 asks once more, and the correction often repeats the plan): :func:`carry_stay_on` gives the
 plan's one motion the instruction's clause ("move to the back side of the table while staying
 on the top of the yellow block"), and drops a sub-task that went to that side of the object
-instead of passing it ("move to the front side of the brown block" after the motion). A
+instead of passing it ("move to the front side of the brown block" after the motion); a
+motion that says a distance from that object the instruction never says, where the clause
+belonged ("… while staying at least 10cm from the blue block" for "without leaving the top of
+the blue block"), has the distance and its ``away`` post-conditions taken out first. A
 distance to keep ("keep 11cm clear of the blue block") is carried the same way ("… while
 staying at least 11cm from the blue block"), a sub-task that went to the object instead ("move
 to a point 11cm above the blue block") dropped. A plan that takes the hand somewhere and then
@@ -189,7 +192,8 @@ def _without_unasked_distance(step: tuple[str, str, list[str]], obj: str, instru
     tail = re.search(rf"\s*,?\s+(?:while\s+|and\s+)?(?:staying|keeping|remaining|stay|keep)\s+"
                      rf"(?:at\s+least\s+)?(\d+(?:\.\d+)?)\s*(?:cm|centimet\w*)\s+(?:away\s+)?"
                      rf"from\s+the\s+{re.escape(obj)}\b", subtask, re.I)
-    if tail is None or tail.group(1) in re.findall(r"\d+(?:\.\d+)?", instruction):
+    said = {float(n) for n in re.findall(r"\d+(?:\.\d+)?", instruction)}
+    if tail is None or float(tail.group(1)) in said:
         return step
     words = subtask[:tail.start()] + subtask[tail.end():]
     kept: list[str] = []
