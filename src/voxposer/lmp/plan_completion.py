@@ -168,7 +168,8 @@ def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[s
     if any(carried.search(s.lower()) and obj in s.lower() for s, _, _ in steps):
         return None
     if carried is STAY_ON:
-        steps = [_without_unasked_distance(step, obj, instruction) for step in steps]
+        said = {float(n) for n in re.findall(r"\d+(?:\.\d+)?", instruction)}
+        steps = [_without_unasked_distance(step, obj, said) for step in steps]
     kept = [st for st in steps if not instead.match(" ".join(st[0].lower().split()))]
     motions = [i for i, (s, _, _) in enumerate(kept)
                if HAND_MOTION.match(s) and obj not in s.lower()]
@@ -182,17 +183,17 @@ def carry_stay_on(instruction: str, code: str, objects: tuple[str, ...] | list[s
     return "\n".join(lines)
 
 
-def _without_unasked_distance(step: tuple[str, str, list[str]], obj: str, instruction: str
+def _without_unasked_distance(step: tuple[str, str, list[str]], obj: str, said: set[float]
                               ) -> tuple[str, str, list[str]]:
     """``step`` (sub-task, line, expect lines) without a distance from ``obj`` the instruction
     does not say ("… while staying at least 10cm from the blue block" planned for "without
     leaving the top of the blue block": dev records, ad-hoc seed 309), nor its ``away``
-    post-conditions about ``obj``; unchanged when it has none."""
+    post-conditions about ``obj``; unchanged when it has none. ``said``: the numbers the
+    instruction says."""
     subtask, _line, expects = step
     tail = re.search(rf"\s*,?\s+(?:while\s+|and\s+)?(?:staying|keeping|remaining|stay|keep)\s+"
                      rf"(?:at\s+least\s+)?(\d+(?:\.\d+)?)\s*(?:cm|centimet\w*)\s+(?:away\s+)?"
                      rf"from\s+the\s+{re.escape(obj)}\b", subtask, re.I)
-    said = {float(n) for n in re.findall(r"\d+(?:\.\d+)?", instruction)}
     if tail is None or float(tail.group(1)) in said:
         return step
     words = subtask[:tail.start()] + subtask[tail.end():]

@@ -22,13 +22,12 @@ from typing import Final
 from voxposer.lmp.checklist import HAND_MOTION, constraint_only, says_speed
 from voxposer.lmp.plan_review import plain_steps
 from voxposer.lmp.speed_words import speed_factor, speed_span
+from voxposer.perception.names import is_end_effector
 
 #: a sub-task written as code, not words ("speed(gripper, 2, away='pink block', cm=5)").
 _CALL: Final = re.compile(r"^\s*[a-z_]+\s*\(", re.I)
 #: a distance in centimetres: (number).
 _CM: Final = re.compile(r"(?<![\w.])(\d+(?:\.\d+)?)\s*(?:cm\b|centimet)")
-#: scene names that are never the object a speed zone is around.
-_NOT_AN_OBJECT: Final = frozenset({"table", "robot", "gripper"})
 
 
 def speed_near_folded(instruction: str, code: str, names: tuple[str, ...] = ()) -> str | None:
@@ -41,7 +40,8 @@ def speed_near_folded(instruction: str, code: str, names: tuple[str, ...] = ()) 
         return None
     distances = set(_CM.findall(said))
     objects = [n for n in names
-               if n not in _NOT_AN_OBJECT and re.search(rf"\b{re.escape(n)}\b", said)]
+               if not is_end_effector(n) and n != "table"
+               and re.search(rf"\b{re.escape(n)}\b", said)]
     if len(distances) != 1 or len(objects) != 1:
         return None
     motions = [i for i, (s, _, _) in enumerate(steps)
